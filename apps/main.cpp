@@ -1,0 +1,65 @@
+// gradmpm: implicit material point method with gradient elasticity.
+//
+//   gradmpm run CASE.toml [--out DIR] [--set section.key=value ...]
+//
+// Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input (case file,
+// key, value, command line, or an output path that cannot be written).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <exception>
+
+#include "gradmpm/app/RunCase.hpp"
+#include "gradmpm/core/Errors.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "gradmpm: implicit quasi-static Material Point Method with Ru-Aifantis gradient elasticity.\n"
+      "Each analysis is described by a TOML case file (see examples/ and docs/case-files.md)."};
+  app.set_version_flag("--version", std::string("gradmpm ") + GRADMPM_VERSION);
+  app.require_subcommand(1);
+
+  gradmpm::RunOptions options;
+  std::string case_file;
+  CLI::App* run = app.add_subcommand(
+      "run",
+      "Run the analysis a case file describes and write its outputs (CSV, plots) to DIR.\n"
+      "Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input or unwritable output.");
+  run->add_option("case", case_file, "TOML case file, e.g. examples/bar_bimaterial.toml")->required();
+  run->add_option("-o,--out", options.out, "output directory (created if needed; default out/<case name>)");
+  run->add_option("-s,--set", options.overrides,
+                  "override a case-file key, e.g. --set bar.elements=160 --set gradient.variant=e-RA\n"
+                  "(repeatable; the value is read as TOML, or as a plain string)")
+      ->type_name("KEY=VALUE");
+  run->add_flag("-q,--quiet", options.quiet, "print nothing on success");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "gradmpm: error: {}\nRun 'gradmpm --help' for usage.\n", e.what());
+    return 2;
+  }
+
+  try {
+    if (run->parsed()) gradmpm::run_case(case_file, options);
+    return 0;
+  } catch (const gradmpm::InputError& e) {
+    fmt::print(stderr, "gradmpm: error: {}\n", e.what());
+    return 2;
+  } catch (const gradmpm::OutputError& e) {
+    fmt::print(stderr, "gradmpm: error: {}\n", e.what());
+    return 2;
+  } catch (const gradmpm::SolverError& e) {
+    fmt::print(stderr, "gradmpm: solver failure: {}\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "gradmpm: failure: {}\n", e.what());
+    return 1;
+  }
+}

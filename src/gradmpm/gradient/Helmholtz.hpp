@@ -1,0 +1,64 @@
+#pragma once
+// The gradient step of the Ru-Aifantis operator split (eq. 7 of the paper and its
+// strain/stress analogues): given a classical field c, find g with
+//     g - l^2 laplacian(g) = c,
+// whose weak form on the grid is
+//     (M + l^2 L) g = f,   M_ij = sum_p N_i N_j V_p,  L_ij = sum_p grad N_i . grad N_j V_p,
+// with f_i = sum_p N_i c_p V_p for a field held at the points (e-RA, s-RA) or f = M c
+// for a nodal field (u-RA). Both operators are integrated by the material points,
+// the same quadrature as the stiffness. The matrix is scalar (one unknown per node),
+// factored once and reused for every component and every right-hand side.
+// Without Dirichlet dofs the boundary condition is the natural one, grad g . n = 0.
+#include <vector>
+
+#include "gradmpm/solver/Assembler.hpp"
+#include "gradmpm/solver/Dirichlet.hpp"
+#include "gradmpm/solver/SpdSolver.hpp"
+
+namespace gradmpm {
+
+template <int dim>
+class HelmholtzSmoother {
+ public:
+  /// `scalar_pattern`: build_pattern() for one component per node. `dirichlet_dofs`:
+  /// equations whose value is prescribed in every smoothing (u-RA); empty for natural BCs.
+  HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern,
+                    double length_scale, const std::vector<int>& dirichlet_dofs = {},
+                    SpdSolver::Backend backend = SpdSolver::Backend::Cholmod)
+      : assembler_(assembler), solver_(backend) {
+    mass_ = scalar_pattern;
+    assembler.add_mass(mass_);
+    SparseMatrix A = scalar_pattern;
+    assembler.add_laplacian(A, length_scale * length_scale);
+    A += mass_;
+    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs);
+    solver_.compute(A);
+  }
+
+  /// Smooths a field known at the points (e-RA: a strain component, s-RA: a stress one).
+  Vector smooth_point_field(const std::vector<double>& c_at_points,
+                            const std::vector<double>& dirichlet_values = {}) const {
+    return solve(assembler_.load(c_at_points), dirichlet_values);
+  }
+
+  /// Smooths a nodal field (u-RA: a displacement component), f = M c.
+  Vector smooth_nodal_field(const Vector& c, const std::vector<double>& dirichlet_values = {}) const {
+    return solve(mass_ * c, dirichlet_values);
+  }
+
+  /// The consistent mass matrix M of the points (useful for projections and tests).
+  const SparseMatrix& mass() const { return mass_; }
+
+ private:
+  Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
+    if (!dirichlet_.dofs().empty()) dirichlet_.apply_to_rhs(f, dirichlet_values);
+    return solver_.solve(f);
+  }
+
+  const Assembler<dim>& assembler_;
+  SparseMatrix mass_;
+  DirichletElimination dirichlet_;
+  SpdSolver solver_;
+};
+
+}  // namespace gradmpm

@@ -1,0 +1,70 @@
+#pragma once
+// A case file (TOML) with command-line overrides and precise error messages.
+//
+// Every error is an InputError whose message names the file, the key and what was
+// expected, e.g.  "bar.toml: bar.elements: expected an integer >= 1, got 0".
+// Sections declare their keys up front, so a misspelt key is reported as unknown
+// (with the list of valid keys) before anything else is read.
+#include <filesystem>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace gradmpm {
+
+class CaseFile {
+ public:
+  /// Reads `file` and applies overrides of the form "section.key=value" (the value is
+  /// parsed as TOML, or taken as a plain string when it is not valid TOML).
+  static CaseFile load(const std::filesystem::path& file,
+                       const std::vector<std::string>& overrides = {});
+  /// Same, from text in memory (`name` stands in for the file name in messages).
+  static CaseFile parse(std::string_view text, std::string name,
+                        const std::vector<std::string>& overrides = {});
+
+  const std::string& name() const { return name_; }
+  bool has_section(std::string_view section) const;
+
+  /// Declares the keys a section may hold; `required` sections must be present.
+  void declare_section(const std::string& section, std::initializer_list<std::string> keys,
+                       bool required);
+  /// Throws on any section or key that was not declared.
+  void reject_unknown() const;
+
+  // Typed access to "section.key". Integers are accepted where numbers are expected.
+  double number(const std::string& key) const;
+  double number_or(const std::string& key, double fallback) const;
+  long long integer(const std::string& key) const;
+  long long integer_or(const std::string& key, long long fallback) const;
+  std::string string(const std::string& key) const;
+  std::string string_or(const std::string& key, const std::string& fallback) const;
+  bool boolean_or(const std::string& key, bool fallback) const;
+  std::vector<double> numbers(const std::string& key, std::size_t count) const;
+
+  /// Throws InputError "<file>: <key>: expected <expected>, got <value as written>".
+  [[noreturn]] void fail(const std::string& key, std::string_view expected) const;
+  /// fail() unless `ok`.
+  void require(bool ok, const std::string& key, std::string_view expected) const {
+    if (!ok) fail(key, expected);
+  }
+
+ private:
+  CaseFile(toml::table table, std::string name) : table_(std::move(table)), name_(std::move(name)) {}
+  void apply_override(const std::string& assignment);
+  const toml::node* find(const std::string& key) const;
+  const toml::node& need(const std::string& key, std::string_view expected) const;
+  std::string where(const std::string& key) const;
+
+  toml::table table_;
+  std::string name_;
+  std::set<std::string> overridden_;
+  std::map<std::string, std::vector<std::string>> declared_;  // section -> keys
+};
+
+}  // namespace gradmpm

@@ -1,0 +1,70 @@
+#pragma once
+// Grid <-> point transfers of the MPM.
+//  - nodes_to_points: interpolation, eq. (2) of the paper: q_p = sum_i N_i(x_p) q_i.
+//  - points_to_nodes: volume-weighted recovery of a point field at the nodes,
+//      q_i = sum_p N_i(x_p) V_p q_p / sum_p N_i(x_p) V_p,
+//    the mapping of eq. (1) normalised by the nodal "volume" (a lumped L2 projection).
+//    It reproduces constant fields exactly and, on a uniform 1D mesh with fields that
+//    are constant per element, gives the average of the two neighbouring elements.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "gradmpm/basis/Stencil.hpp"
+#include "gradmpm/grid/Grid.hpp"
+#include "gradmpm/points/MaterialPoints.hpp"
+
+namespace gradmpm {
+
+/// Shape functions of every point, evaluated once per load step.
+template <int dim>
+using PointStencils = std::vector<Stencil<dim>>;
+
+/// Evaluates `Basis` at every point. Throws std::out_of_range listing the ids of
+/// points outside the grid.
+template <int dim, class Basis>
+PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points) {
+  PointStencils<dim> st(points.size());
+  std::string outside;
+  int n_outside = 0;
+  for (int p = 0; p < points.size(); ++p) {
+    if (!Basis::evaluate(grid, points.position[p], st[p])) {
+      if (n_outside++ < 20) outside += (outside.empty() ? "" : ", ") + std::to_string(p);
+    }
+  }
+  if (n_outside > 0)
+    throw std::out_of_range(std::to_string(n_outside) + " material point(s) outside the grid: " +
+                            outside + (n_outside > 20 ? ", ..." : ""));
+  return st;
+}
+
+/// q_p = sum_i N_i(x_p) q_i for a scalar nodal field.
+template <int dim>
+std::vector<double> nodes_to_points(const PointStencils<dim>& st, const Vector& nodal) {
+  std::vector<double> out(st.size());
+  for (std::size_t p = 0; p < st.size(); ++p) {
+    double v = 0.0;
+    for (int a = 0; a < st[p].count; ++a) v += st[p].N[a] * nodal[st[p].node[a]];
+    out[p] = v;
+  }
+  return out;
+}
+
+/// Volume-weighted recovery of a scalar point field at the nodes (see header).
+/// Nodes that no point touches get 0.
+template <int dim>
+Vector points_to_nodes(const PointStencils<dim>& st, const MaterialPoints<dim>& points,
+                       const std::vector<double>& q, int num_nodes) {
+  Vector num = Vector::Zero(num_nodes), den = Vector::Zero(num_nodes);
+  for (std::size_t p = 0; p < st.size(); ++p) {
+    for (int a = 0; a < st[p].count; ++a) {
+      const double w = st[p].N[a] * points.volume[p];
+      num[st[p].node[a]] += w * q[p];
+      den[st[p].node[a]] += w;
+    }
+  }
+  for (int i = 0; i < num_nodes; ++i) num[i] = den[i] > 0.0 ? num[i] / den[i] : 0.0;
+  return num;
+}
+
+}  // namespace gradmpm

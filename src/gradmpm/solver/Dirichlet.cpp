@@ -1,0 +1,42 @@
+#include "gradmpm/solver/Dirichlet.hpp"
+
+#include <stdexcept>
+
+namespace gradmpm {
+
+void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs) {
+  dofs_ = dofs;
+  removed_.clear();
+  diagonal_.assign(dofs.size(), 1.0);
+  std::vector<int> index(A.rows(), -1);  // constraint number of each dof, or -1
+  for (std::size_t k = 0; k < dofs.size(); ++k) {
+    if (dofs[k] < 0 || dofs[k] >= A.rows())
+      throw std::out_of_range("Dirichlet constraint on a dof outside the system");
+    index[dofs[k]] = static_cast<int>(k);
+  }
+  for (int col = 0; col < A.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
+      const int row = it.row();
+      const int kc = index[col], kr = index[row];
+      if (kc < 0 && kr < 0) continue;
+      if (row == col) {
+        // Keep the diagonal so the constrained equation has the scale of its
+        // neighbours (better conditioning than 1).
+        if (it.value() > 0.0) diagonal_[kc] = it.value();
+        it.valueRef() = diagonal_[kc];
+        continue;
+      }
+      if (kc >= 0 && kr < 0) removed_.push_back({row, kc, it.value()});
+      it.valueRef() = 0.0;
+    }
+  }
+}
+
+void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& values) const {
+  if (values.size() != dofs_.size())
+    throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
+  for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
+  for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = diagonal_[k] * values[k];
+}
+
+}  // namespace gradmpm

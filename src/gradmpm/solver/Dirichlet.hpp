@@ -1,0 +1,32 @@
+#pragma once
+// Prescribed values u_c = g_c by symmetric elimination that keeps the sparsity
+// pattern (and so CHOLMOD's symbolic analysis): rows and columns of constrained dofs
+// are zeroed, their diagonal kept, and the removed column entries remembered so
+// that every right-hand side can be lifted: b_i -= A_ic g_c, b_c = A_cc g_c.
+#include <vector>
+
+#include "gradmpm/core/Types.hpp"
+
+namespace gradmpm {
+
+class DirichletElimination {
+ public:
+  /// Eliminates `dofs` from A in place. A keeps its pattern and stays SPD.
+  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs);
+
+  /// Lifts b for the prescribed `values` (same order as the dofs given above).
+  void apply_to_rhs(Vector& b, const std::vector<double>& values) const;
+
+  const std::vector<int>& dofs() const { return dofs_; }
+
+ private:
+  struct Entry {
+    int row, constraint;
+    double value;
+  };
+  std::vector<int> dofs_;
+  std::vector<double> diagonal_;
+  std::vector<Entry> removed_;  ///< A_ic for free rows i and constrained columns c
+};
+
+}  // namespace gradmpm

@@ -1,0 +1,50 @@
+#pragma once
+// Equation numbering of the active grid nodes. In the MPM only the nodes whose shape
+// functions some point touches take part in a load step (AMPLE's "active nodes");
+// the others carry no equation. Equation of (node, component) = eq(node)*ncomp + comp.
+#include <vector>
+
+#include "gradmpm/core/Types.hpp"
+#include "gradmpm/points/Transfer.hpp"
+
+namespace gradmpm {
+
+class DofMap {
+ public:
+  DofMap() = default;
+
+  template <int dim>
+  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp)
+      : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
+    for (const auto& s : st)
+      for (int a = 0; a < s.count; ++a) eq_of_node_[s.node[a]] = 0;
+    for (int n = 0; n < num_nodes; ++n)
+      if (eq_of_node_[n] == 0) {
+        eq_of_node_[n] = static_cast<int>(node_of_eq_.size());
+        node_of_eq_.push_back(n);
+      }
+  }
+
+  int ncomp() const { return ncomp_; }
+  int num_active_nodes() const { return static_cast<int>(node_of_eq_.size()); }
+  int num_dofs() const { return num_active_nodes() * ncomp_; }
+  int num_grid_nodes() const { return static_cast<int>(eq_of_node_.size()); }
+  bool active(int node) const { return eq_of_node_[node] >= 0; }
+  int dof(int node, int comp) const { return eq_of_node_[node] * ncomp_ + comp; }
+  int node_of(int eq) const { return node_of_eq_[eq]; }
+
+  /// Expands a vector in equation numbering (one component) to all grid nodes,
+  /// inactive nodes getting `fill`.
+  Vector to_grid(const Vector& v, int comp = 0, double fill = 0.0) const {
+    Vector g = Vector::Constant(num_grid_nodes(), fill);
+    for (int e = 0; e < num_active_nodes(); ++e) g[node_of_eq_[e]] = v[e * ncomp_ + comp];
+    return g;
+  }
+
+ private:
+  int ncomp_ = 1;
+  std::vector<int> eq_of_node_;
+  std::vector<int> node_of_eq_;
+};
+
+}  // namespace gradmpm

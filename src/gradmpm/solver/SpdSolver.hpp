@@ -1,0 +1,42 @@
+#pragma once
+// Sparse symmetric positive definite solves. CHOLMOD (supernodal Cholesky) by
+// default; Eigen's SimplicialLDLT as fallback. The symbolic analysis is kept and
+// reused for every factorisation of a matrix with the same pattern, and one
+// factorisation serves any number of right-hand sides.
+#include <memory>
+#include <string_view>
+
+#include "gradmpm/core/Types.hpp"
+
+namespace gradmpm {
+
+class SpdSolver {
+ public:
+  enum class Backend { Cholmod, EigenLDLT };
+
+  explicit SpdSolver(Backend backend = Backend::Cholmod);
+  ~SpdSolver();
+  SpdSolver(SpdSolver&&) noexcept;
+  SpdSolver& operator=(SpdSolver&&) noexcept;
+
+  /// Symbolic analysis (ordering, elimination tree). Call again only if the pattern changes.
+  void analyze(const SparseMatrix& A);
+  /// Numeric factorisation; throws SolverError if A is not positive definite.
+  void factorize(const SparseMatrix& A);
+  /// analyze (if not yet done) + factorize.
+  void compute(const SparseMatrix& A);
+  /// x = A^{-1} b with the current factorisation.
+  Vector solve(const Vector& b) const;
+
+  Backend backend() const { return backend_; }
+  static std::string_view name(Backend b);
+
+ private:
+  struct Impl;
+  Backend backend_;
+  std::unique_ptr<Impl> impl_;
+  bool analyzed_ = false;
+  bool factorized_ = false;
+};
+
+}  // namespace gradmpm
