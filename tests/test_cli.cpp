@@ -1,0 +1,136 @@
+// Requirements on the command line (runs the real gradmpm binary):
+//  - `gradmpm run CASE --out DIR` writes bar.csv (with the documented columns),
+//    bar_points.csv and bar.png;
+//  - every bad input exits with code 2 and a one-line message naming file, key and
+//    expectation; an unwritable output path too;
+//  - outputs appear whole or not at all: a failure leaves earlier files untouched and no
+//    temporaries behind.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/gradmpm-cli-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir = tmpl;
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  Result run(const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + GRADMPM_EXE + " " + args + " >" + (dir / "stdout").string() + " 2>" +
+                            (dir / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    return {WEXITSTATUS(status), slurp(dir / "stdout"), slurp(dir / "stderr")};
+  }
+  std::string example() const { return std::string(GRADMPM_SOURCE_DIR) + "/examples/bar_bimaterial.toml"; }
+
+  fs::path dir;
+};
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+}  // namespace
+
+TEST_F(Cli, RunWritesCsvAndPlot) {
+  const Result r = run("run " + example() + " --out " + (dir / "o").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(dir / "o" / "bar.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "x,u_classical,u_gradient,strain_classical,strain_gradient,stress_classical,stress_gradient,u_exact,"
+            "strain_exact");
+  EXPECT_EQ(count_lines(csv), 1 + 81);
+  EXPECT_EQ(count_lines(slurp(dir / "o" / "bar_points.csv")), 1 + 160);
+  EXPECT_EQ(slurp(dir / "o" / "bar.png").substr(1, 3), "PNG");
+  EXPECT_NE(r.out.find("max relative error"), std::string::npos);
+}
+
+TEST_F(Cli, HelpExplainsTheCommands) {
+  Result r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("run"), std::string::npos);
+  r = run("run --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("--set"), std::string::npos);
+  EXPECT_NE(r.out.find("--out"), std::string::npos);
+}
+
+TEST_F(Cli, BadInputExitsWithCode2AndOneLine) {
+  std::ofstream(dir / "broken.toml") << "[bar]\nlength = = 1\n";
+  std::ofstream(dir / "nobar.toml") << "[grid]\ncells = 3\n";
+  std::ofstream(dir / "a_file") << "x";
+  const std::string ex = example();
+  const std::string o = " --out " + (dir / "o").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"run " + (dir / "missing.toml").string(), "cannot open case file"},
+      {"run " + (dir / "broken.toml").string(), "broken.toml:2:"},
+      {"run " + (dir / "nobar.toml").string(), "no problem section found; expected [bar]"},
+      {"run " + ex + o + " --set bar.lenght=3", "bar.lenght (from --set): unknown key"},
+      {"run " + ex + o + " --set bar.length=-1", "bar.length (from --set): expected a length > 0, got -1"},
+      {"run " + ex + o + " --set bar.elements=0", "bar.elements (from --set): expected an integer from 1"},
+      {"run " + ex + o + " --set bar.elements=8.5", "bar.elements (from --set): expected an integer, got 8.5"},
+      {"run " + ex + o + " --set gradient.length_scale=-1", "expected a length scale l >= 0"},
+      {"run " + ex + o + " --set bar.split=1", "expected a fraction of the length strictly between 0 and 1"},
+      {"run " + ex + o + " --set bar.split=0", "expected a fraction of the length strictly between 0 and 1"},
+      {"run " + ex + o + " --set gradient.variant=x", "expected one of"},
+      {"run " + ex + o + " --set bar.young=[1]", "expected an array of 2 numbers"},
+      {"run " + ex + o + " --set bar.length=abc", "expected a number, got \"abc\""},
+      {"run " + ex + " --out " + (dir / "a_file" / "sub").string(), "cannot create output directory"},
+      {"run " + ex + o + " --set nokey", "expected section.key=value"},
+      {"run", "case is required"},
+      {"run " + ex + " --bogus", "--bogus"},
+      {"", "A subcommand is required"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << "\nstderr: " << r.err;
+    EXPECT_NE(r.err.find("gradmpm: error: "), std::string::npos) << args;
+    if (r.err.find("--help") == std::string::npos) EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir / "o" / "bar.csv")) << args;
+  }
+}
+
+TEST_F(Cli, FailedRunLeavesEarlierOutputsUntouched) {
+  fs::create_directories(dir / "o");
+  std::ofstream(dir / "o" / "bar.csv") << "old";
+  // A plotting interpreter that fails: the run must fail as a whole.
+  const Result r = run("run " + example() + " --out " + (dir / "o").string(), "GRADMPM_PYTHON=/bin/false");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("plotting with /bin/false failed"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir / "o" / "bar.csv"), "old");
+  EXPECT_FALSE(fs::exists(dir / "o" / "bar_points.csv"));
+  EXPECT_FALSE(fs::exists(dir / "o" / "bar.png"));
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "o")) ++files;
+  EXPECT_EQ(files, 1) << "no temporary files are left behind";
+}
+
+TEST_F(Cli, PlotCanBeSwitchedOff) {
+  const Result r = run("run " + example() + " --out " + (dir / "o").string() + " --set output.plot=false");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "o" / "bar.csv"));
+  EXPECT_FALSE(fs::exists(dir / "o" / "bar.png"));
+}
