@@ -29,15 +29,17 @@ std::vector<double> point_strains(const PointStencils<1>& st, const Vector& u) {
   return eps;
 }
 
-std::vector<double> times(const std::vector<double>& a, const std::vector<double>& b) {
-  std::vector<double> c(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) c[i] = a[i] * b[i];
-  return c;
+/// sigma_p = law(eps_p): the constitutive update at every point.
+std::vector<double> point_stresses(const BarResult& r, const std::vector<double>& eps) {
+  std::vector<double> sig(eps.size());
+  for (std::size_t p = 0; p < eps.size(); ++p) sig[p] = r.materials[r.points.material[p]].stress(eps[p]);
+  return sig;
 }
-std::vector<double> divide(const std::vector<double>& a, const std::vector<double>& b) {
-  std::vector<double> c(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) c[i] = a[i] / b[i];
-  return c;
+/// eps_p = sigma_p / E_p (s-RA: the strain that goes with a smoothed stress).
+std::vector<double> point_compliant_strains(const BarResult& r, const std::vector<double>& sig) {
+  std::vector<double> eps(sig.size());
+  for (std::size_t p = 0; p < sig.size(); ++p) eps[p] = sig[p] / r.materials[r.points.material[p]].tangent();
+  return eps;
 }
 
 /// Displacement compatible with a strain field held at the points, u(0) = 0:
@@ -69,7 +71,8 @@ BarResult solve_bar(const BarConfig& c) {
   add_gauss_points<1>(
       grid, {0}, {c.elements}, c.points_per_element,
       [&](const Vec<1>& x) { return x[0] < x_interface ? 0 : 1; }, r.points);
-  for (int m : r.points.material) r.point_young.push_back(m == 0 ? c.young_left : c.young_right);
+  r.materials = {LinearElastic1D{c.young_left}, LinearElastic1D{c.young_right}};
+  for (int m : r.points.material) r.point_young.push_back(r.materials[m].young);
 
   const PointStencils<1> st = evaluate_stencils<1, LinearBasis<1>>(grid, r.points);
   const DofMap dofs(st, grid.num_nodes(), 1);
@@ -80,7 +83,7 @@ BarResult solve_bar(const BarConfig& c) {
   // Classical problem: K_ab = sum_p dN_a E_p dN_b V_p, u(0) = 0, u(L) = delta.
   SparseMatrix K = pattern;
   assembler.add_matrix(K, [&](int p, const Stencil<1>& s, Assembler<1>::LocalMatrix& Ke) {
-    const double w = r.point_young[p] * r.points.volume[p];
+    const double w = r.materials[r.points.material[p]].tangent() * r.points.volume[p];
     for (int a = 0; a < s.count; ++a)
       for (int b = 0; b < s.count; ++b) Ke(a, b) = w * s.dN[a][0] * s.dN[b][0];
   });
@@ -99,7 +102,7 @@ BarResult solve_bar(const BarConfig& c) {
   r.timings.classical_solve_s = seconds_since(t_solve);
 
   r.point_strain_classical = point_strains(st, r.u_classical);
-  r.point_stress_classical = times(r.point_young, r.point_strain_classical);
+  r.point_stress_classical = point_stresses(r, r.point_strain_classical);
 
   // Gradient step: one factorisation of (M + l^2 L) per analysis, natural boundaries
   // unless the variant smooths displacements (u-RA copies the classical Dirichlet data).
@@ -115,14 +118,14 @@ BarResult solve_bar(const BarConfig& c) {
       const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, ends, c.solver);
       r.u_gradient = dofs.to_grid(smoother.smooth_nodal_field(r.u_classical, end_values));
       r.point_strain_gradient = point_strains(st, r.u_gradient);
-      r.point_stress_gradient = times(r.point_young, r.point_strain_gradient);
+      r.point_stress_gradient = point_stresses(r, r.point_strain_gradient);
       break;
     }
     case GradientVariant::E_RA: {
       const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, {}, c.solver);
       strain_nodes = dofs.to_grid(smoother.smooth_point_field(r.point_strain_classical));
       r.point_strain_gradient = nodes_to_points(st, strain_nodes);
-      r.point_stress_gradient = times(r.point_young, r.point_strain_gradient);
+      r.point_stress_gradient = point_stresses(r, r.point_strain_gradient);
       r.u_gradient = dofs.to_grid(
           integrate_strain(assembler, pattern, r.point_strain_gradient, ends[0], c.solver));
       break;
@@ -131,7 +134,7 @@ BarResult solve_bar(const BarConfig& c) {
       const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, {}, c.solver);
       stress_nodes = dofs.to_grid(smoother.smooth_point_field(r.point_stress_classical));
       r.point_stress_gradient = nodes_to_points(st, stress_nodes);
-      r.point_strain_gradient = divide(r.point_stress_gradient, r.point_young);
+      r.point_strain_gradient = point_compliant_strains(r, r.point_stress_gradient);
       r.u_gradient = dofs.to_grid(
           integrate_strain(assembler, pattern, r.point_strain_gradient, ends[0], c.solver));
       break;
