@@ -27,7 +27,10 @@ struct BarConfig {
 };
 
 struct BarTimings {
-  double assembly_s = 0, classical_solve_s = 0, gradient_s = 0;
+  double assembly_s = 0;         ///< points, shape functions, pattern, stiffness
+  double classical_solve_s = 0;  ///< analysis + factorisation + solve of K
+  double gradient_s = 0;         ///< (M + l^2 L): assembly, factorisation, smoothing solve
+  double recovery_s = 0;         ///< nodal recovery, displacement of e-RA/s-RA, element strains
 };
 
 struct BarResult {

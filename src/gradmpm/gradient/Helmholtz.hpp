@@ -4,8 +4,8 @@
 //     g - l^2 laplacian(g) = c,
 // whose weak form on the grid is
 //     (M + l^2 L) g = f,   M_ij = sum_p N_i N_j V_p,  L_ij = sum_p grad N_i . grad N_j V_p,
-// with f_i = sum_p N_i c_p V_p for a field held at the points (e-RA, s-RA) or f = M c
-// for a nodal field (u-RA). Both operators are integrated by the material points,
+// with f_i = sum_p N_i c_p V_p for a field held at the points (e-RA, s-RA), or with
+// c_p interpolated from the nodes (f = M c) for a nodal field (u-RA). Both operators are integrated by the material points,
 // the same quadrature as the stiffness. The matrix is scalar (one unknown per node),
 // factored once and reused for every component and every right-hand side.
 // Without Dirichlet dofs the boundary condition is the natural one, grad g . n = 0.
@@ -26,11 +26,8 @@ class HelmholtzSmoother {
                     double length_scale, const std::vector<int>& dirichlet_dofs = {},
                     SpdSolver::Backend backend = SpdSolver::Backend::Cholmod)
       : assembler_(assembler), solver_(backend) {
-    mass_ = scalar_pattern;
-    assembler.add_mass(mass_);
     SparseMatrix A = scalar_pattern;
-    assembler.add_laplacian(A, length_scale * length_scale);
-    A += mass_;
+    assembler.add_helmholtz(A, length_scale * length_scale);
     if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs);
     solver_.compute(A);
   }
@@ -41,13 +38,11 @@ class HelmholtzSmoother {
     return solve(assembler_.load(c_at_points), dirichlet_values);
   }
 
-  /// Smooths a nodal field (u-RA: a displacement component), f = M c.
+  /// Smooths a nodal field (u-RA: a displacement component): f_i = sum_p N_i c(x_p) V_p,
+  /// which is M c with M integrated by the points.
   Vector smooth_nodal_field(const Vector& c, const std::vector<double>& dirichlet_values = {}) const {
-    return solve(mass_ * c, dirichlet_values);
+    return solve(assembler_.load(assembler_.interpolate(c)), dirichlet_values);
   }
-
-  /// The consistent mass matrix M of the points (useful for projections and tests).
-  const SparseMatrix& mass() const { return mass_; }
 
  private:
   Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
@@ -56,7 +51,6 @@ class HelmholtzSmoother {
   }
 
   const Assembler<dim>& assembler_;
-  SparseMatrix mass_;
   DirichletElimination dirichlet_;
   SpdSolver solver_;
 };

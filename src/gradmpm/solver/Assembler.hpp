@@ -62,6 +62,27 @@ class Assembler {
     });
   }
 
+  /// (M + l2 L)_ij in one pass over the points: the Helmholtz operator of the gradient step.
+  void add_helmholtz(SparseMatrix& A, double l2) const {
+    add_matrix(A, [&](int p, const Stencil<dim>& s, LocalMatrix& K) {
+      const double w = points_.volume[p];
+      for (int a = 0; a < s.count; ++a)
+        for (int b = 0; b < s.count; ++b) K(a, b) = w * (s.N[a] * s.N[b] + l2 * s.dN[a].dot(s.dN[b]));
+    });
+  }
+
+  /// q_p = sum_i N_i(x_p) q_i: a scalar nodal field (equation numbering) at the points (eq. 2).
+  std::vector<double> interpolate(const Vector& nodal) const {
+    std::vector<double> q(points_.size());
+    for (int p = 0; p < points_.size(); ++p) {
+      const Stencil<dim>& s = st_[p];
+      double v = 0.0;
+      for (int a = 0; a < s.count; ++a) v += s.N[a] * nodal[dofs_.dof(s.node[a], 0)];
+      q[p] = v;
+    }
+    return q;
+  }
+
   /// f_i = sum_p N_i(x_p) q_p V_p   (eq. 1 with a point "force" q_p V_p)
   Vector load(const std::vector<double>& q) const {
     Vector f = Vector::Zero(dofs_.num_dofs());
