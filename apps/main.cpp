@@ -35,11 +35,7 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
+  } catch (const CLI::Success& e) {  // --help, --help-all, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr, "gradmpm: error: {}\nRun 'gradmpm --help' for usage.\n", e.what());
@@ -49,10 +45,7 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) gradmpm::run_case(case_file, options);
     return 0;
-  } catch (const gradmpm::InputError& e) {
-    fmt::print(stderr, "gradmpm: error: {}\n", e.what());
-    return 2;
-  } catch (const gradmpm::OutputError& e) {
+  } catch (const gradmpm::UserError& e) {  // bad input or an unwritable output path
     fmt::print(stderr, "gradmpm: error: {}\n", e.what());
     return 2;
   } catch (const gradmpm::SolverError& e) {

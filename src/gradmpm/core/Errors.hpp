@@ -1,16 +1,21 @@
 #pragma once
-// Exception types. InputError is what the command line turns into a one-line
-// message and exit code 2; SolverError is a numerical failure (exit code 1).
+// Exception types. UserError (InputError, OutputError) is what the command line turns
+// into a one-line message and exit code 2; SolverError is a numerical failure (exit 1).
 #include <stdexcept>
 #include <string>
 
 namespace gradmpm {
 
-/// Bad input: a case file, a key, a command-line value. The message is complete
-/// and user-facing ("FILE: KEY: expected ..., got ...").
-class InputError : public std::runtime_error {
+/// Something the user can fix (exit code 2). The message is complete and user-facing.
+class UserError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+/// Bad input: a case file, a key, a command-line value ("FILE: KEY: expected ..., got ...").
+class InputError : public UserError {
+ public:
+  using UserError::UserError;
 };
 
 /// A numerical failure: a matrix that is not positive definite, a solve that failed.
@@ -20,9 +25,9 @@ class SolverError : public std::runtime_error {
 };
 
 /// Output could not be written (permissions, missing directory, full disk).
-class OutputError : public std::runtime_error {
+class OutputError : public UserError {
  public:
-  using std::runtime_error::runtime_error;
+  using UserError::UserError;
 };
 
 }  // namespace gradmpm
