@@ -97,6 +97,6 @@ TEST(Transfer, PointsOutsideTheGridAreListed) {
     evaluate_stencils<1, LinearBasis<1>>(grid, pts);
     FAIL() << "expected std::out_of_range";
   } catch (const std::out_of_range& e) {
-    EXPECT_NE(std::string(e.what()).find("2 material point(s) outside the grid: 1, 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("2 material point(s) outside the grid (ids): 1, 2"), std::string::npos) << e.what();
   }
 }

@@ -13,6 +13,10 @@ struct LinearBasis {
   /// Fills `s` with the 2^dim nodes of the cell holding x. Returns false when x is
   /// outside the grid (the stencil is then empty).
   static bool evaluate(const Grid<dim>& grid, const Vec<dim>& x, Stencil<dim>& s) {
+    return evaluate(grid, x, Vec<dim>::Zero(), s);
+  }
+  /// Same signature as GimpBasis; the point's domain is ignored.
+  static bool evaluate(const Grid<dim>& grid, const Vec<dim>& x, const Vec<dim>& /*lp*/, Stencil<dim>& s) {
     const auto cell = grid.cell_of(x);
     s.count = 0;
     if (!cell) return false;

@@ -35,7 +35,7 @@ void add_gauss_points(const Grid<dim>& grid, const typename Grid<dim>::Index& fi
     if (first[d] >= last[d]) return;
   while (true) {
     for (int q = 0; q < per_cell; ++q) {
-      Vec<dim> x;
+      Vec<dim> x, lp;
       double w = 1.0;
       int r = q;
       for (int d = 0; d < dim; ++d) {
@@ -43,8 +43,9 @@ void add_gauss_points(const Grid<dim>& grid, const typename Grid<dim>::Index& fi
         r /= n;
         x[d] = grid.origin()[d] + (c[d] + rule.xi[iq]) * h[d];
         w *= rule.w[iq] * h[d];
+        lp[d] = 0.5 * rule.w[iq] * h[d];  // the point's share of the cell
       }
-      points.add(x, w, material_at(x));
+      points.add(x, w, material_at(x), lp);
     }
     int d = 0;  // odometer over the cell box
     while (d < dim && ++c[d] == last[d]) {
@@ -53,6 +54,45 @@ void add_gauss_points(const Grid<dim>& grid, const typename Grid<dim>::Index& fi
     }
     if (d == dim) break;
   }
+}
+
+/// Adds n^dim equally spaced points per cell (the usual MPM filling: cell split into n^dim
+/// sub-cells, one point at each centre) to every cell c with first <= c < last whose point
+/// satisfies `inside(x)`. Volume = sub-cell volume, domain = the sub-cell.
+template <int dim>
+int add_regular_points(const Grid<dim>& grid, const typename Grid<dim>::Index& first,
+                       const typename Grid<dim>::Index& last, int n,
+                       const std::function<bool(const Vec<dim>&)>& inside, int material, double density,
+                       MaterialPoints<dim>& points) {
+  const Vec<dim>& h = grid.cell_size();
+  int per_cell = 1;
+  for (int d = 0; d < dim; ++d) per_cell *= n;
+  const Vec<dim> lp = h / (2.0 * n);
+  const double v = (h / n).prod();
+  int added = 0;
+  std::array<int, dim> c = first;
+  for (int d = 0; d < dim; ++d)
+    if (first[d] >= last[d]) return 0;
+  while (true) {
+    for (int q = 0; q < per_cell; ++q) {
+      Vec<dim> x;
+      int r = q;
+      for (int d = 0; d < dim; ++d) {
+        x[d] = grid.origin()[d] + (c[d] + (r % n + 0.5) / n) * h[d];
+        r /= n;
+      }
+      if (!inside(x)) continue;
+      points.add(x, v, material, lp, density * v);
+      ++added;
+    }
+    int d = 0;
+    while (d < dim && ++c[d] == last[d]) {
+      c[d] = first[d];
+      ++d;
+    }
+    if (d == dim) break;
+  }
+  return added;
 }
 
 }  // namespace gradmpm

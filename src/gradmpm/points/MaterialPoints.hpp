@@ -1,6 +1,7 @@
 #pragma once
 // Material points carry all state of the analysis (paper, section 1). Stored as a
 // structure of arrays so that hot loops stream through contiguous memory.
+#include <Eigen/Core>
 #include <vector>
 
 #include "gradmpm/core/Types.hpp"
@@ -9,16 +10,35 @@ namespace gradmpm {
 
 template <int dim>
 struct MaterialPoints {
-  std::vector<Vec<dim>> position;  ///< current position x_p
-  std::vector<double> volume;      ///< current volume V_p (integration weight)
-  std::vector<int> material;       ///< index into the case's material list
+  std::vector<Vec<dim>> position;           ///< current position x_p
+  std::vector<Vec<dim>> original_position;  ///< X_p
+  std::vector<double> volume;               ///< current volume v_p = det(F) V_p (integration weight)
+  std::vector<double> original_volume;      ///< V_p
+  std::vector<double> mass;                 ///< m_p = rho_0 V_p, constant
+  std::vector<int> material;                ///< index into the model's material list
+  std::vector<Eigen::Matrix3d> F;           ///< deformation gradient (3x3 in every dim)
+  std::vector<Eigen::Matrix3d> stress;      ///< Cauchy stress
+  std::vector<Eigen::Matrix3d> strain;      ///< elastic strain history (logarithmic for Hencky)
+  std::vector<Vec<dim>> half_length;        ///< GIMP domain half-lengths l_p (current)
+  std::vector<Vec<dim>> original_half_length;  ///< l_p0
+  std::vector<Vec<dim>> force;              ///< point load at load factor 1
 
   int size() const { return static_cast<int>(position.size()); }
 
-  void add(const Vec<dim>& x, double v, int mat) {
+  /// Adds an unstressed point at x with volume v; its domain is the box of half-lengths lp.
+  void add(const Vec<dim>& x, double v, int mat, const Vec<dim>& lp = Vec<dim>::Zero(), double m = 0.0) {
     position.push_back(x);
+    original_position.push_back(x);
     volume.push_back(v);
+    original_volume.push_back(v);
+    mass.push_back(m);
     material.push_back(mat);
+    F.push_back(Eigen::Matrix3d::Identity());
+    stress.push_back(Eigen::Matrix3d::Zero());
+    strain.push_back(Eigen::Matrix3d::Zero());
+    half_length.push_back(lp);
+    original_half_length.push_back(lp);
+    force.push_back(Vec<dim>::Zero());
   }
 };
 

@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "gradmpm/basis/BasisKind.hpp"
+#include "gradmpm/basis/GimpBasis.hpp"
+#include "gradmpm/basis/LinearBasis.hpp"
 #include "gradmpm/basis/Stencil.hpp"
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
@@ -21,21 +24,28 @@ template <int dim>
 using PointStencils = std::vector<Stencil<dim>>;
 
 /// Evaluates `Basis` at every point. Throws std::out_of_range listing the ids of
-/// points outside the grid.
+/// points outside the grid (for GIMP: whose domain leaves the grid).
 template <int dim, class Basis>
 PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points) {
   PointStencils<dim> st(points.size());
   std::string outside;
   int n_outside = 0;
   for (int p = 0; p < points.size(); ++p) {
-    if (!Basis::evaluate(grid, points.position[p], st[p])) {
+    if (!Basis::evaluate(grid, points.position[p], points.half_length[p], st[p])) {
       if (n_outside++ < 20) outside += (outside.empty() ? "" : ", ") + std::to_string(p);
     }
   }
   if (n_outside > 0)
-    throw std::out_of_range(std::to_string(n_outside) + " material point(s) outside the grid: " +
+    throw std::out_of_range(std::to_string(n_outside) + " material point(s) outside the grid (ids): " +
                             outside + (n_outside > 20 ? ", ..." : ""));
   return st;
+}
+
+/// Runtime choice of basis (uGIMP and cpGIMP differ only in how l_p evolves).
+template <int dim>
+PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points, BasisKind kind) {
+  if (kind == BasisKind::MPM) return evaluate_stencils<dim, LinearBasis<dim>>(grid, points);
+  return evaluate_stencils<dim, GimpBasis<dim>>(grid, points);
 }
 
 /// q_p = sum_i N_i(x_p) q_i for a scalar nodal field.

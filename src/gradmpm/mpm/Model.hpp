@@ -1,0 +1,53 @@
+#pragma once
+// Everything an implicit quasi-static MPM analysis needs: the background grid, the
+// material points, the materials, the basis, the loads and the grid constraints.
+#include <memory>
+#include <vector>
+
+#include "gradmpm/basis/BasisKind.hpp"
+#include "gradmpm/grid/Grid.hpp"
+#include "gradmpm/materials/Material.hpp"
+#include "gradmpm/points/MaterialPoints.hpp"
+
+namespace gradmpm {
+
+/// A grid-node displacement component held at `total` (reached at load factor 1,
+/// ramped linearly; 0 for a fixed or roller support).
+struct NodalConstraint {
+  int node;
+  int component;
+  double total = 0.0;
+};
+
+template <int dim>
+struct Model {
+  Grid<dim> grid;
+  MaterialPoints<dim> points;
+  std::vector<std::shared_ptr<const Material>> materials;
+  BasisKind basis = BasisKind::MPM;
+  Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
+  std::vector<NodalConstraint> constraints;
+
+  explicit Model(const Grid<dim>& g) : grid(g) {}
+};
+
+struct NewtonSettings {
+  int load_steps = 1;
+  double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
+  int max_iterations = 25;
+  int max_cuts = 6;         ///< halvings of a failing load increment before giving up
+};
+
+/// What one converged load step did; passed to the observer after every step.
+struct StepInfo {
+  int step = 0;                  ///< 1, 2, ... (converged steps)
+  double load_factor = 0.0;      ///< lambda at the end of the step
+  double increment = 0.0;        ///< d lambda of the step
+  int cuts = 0;                  ///< halvings needed before this step converged
+  std::vector<double> residuals; ///< normalised out-of-balance force per Newton iteration
+  Vector grid_displacement;      ///< the step's displacement increment at every grid node (dim per node)
+  Vector grid_mass;              ///< nodal mass sum_p N_i m_p (eq. 1)
+  double seconds = 0.0;
+};
+
+}  // namespace gradmpm

@@ -1,0 +1,258 @@
+#include "gradmpm/mpm/QuasiStatic.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/points/Transfer.hpp"
+#include "gradmpm/solver/Assembler.hpp"
+#include "gradmpm/solver/Dirichlet.hpp"
+#include "gradmpm/solver/SpdSolver.hpp"
+
+namespace gradmpm {
+
+namespace {
+
+/// A Newton failure inside one load step (the caller cuts the increment).
+struct StepFailure {
+  std::string reason;
+};
+
+/// The grid-side work of one load step: stencils at x_n, active dofs, the sparsity
+/// pattern, the prescribed increments, and the point loop of every Newton iteration.
+template <int dim>
+class LoadStep {
+ public:
+  LoadStep(const Model<dim>& m, double lambda_end, double dlambda)
+      : model_(m),
+        st_(evaluate_stencils(m.grid, m.points, m.basis)),
+        dofs_(st_, m.grid.num_nodes(), dim),
+        pattern_(build_pattern(st_, dofs_)),
+        assembler_(st_, m.points, dofs_),
+        response_(m.points.size()) {
+    // Prescribed increments of active constrained nodes (last definition wins).
+    std::map<int, double> prescribed;
+    for (const auto& c : m.constraints)
+      if (dofs_.active(c.node)) prescribed[dofs_.dof(c.node, c.component)] = c.total * dlambda;
+    for (const auto& [dof, value] : prescribed) {
+      constrained_.push_back(dof);
+      increments_.push_back(value);
+    }
+    // External force at the end of the step, eq. (1): f_i = sum_p N_i (m_p g + f_p) lambda.
+    f_ext_ = Vector::Zero(dofs_.num_dofs());
+    for (int p = 0; p < m.points.size(); ++p) {
+      const Vec<dim> f = (m.points.mass[p] * m.gravity + m.points.force[p]) * lambda_end;
+      const Stencil<dim>& s = st_[p];
+      for (int a = 0; a < s.count; ++a)
+        for (int i = 0; i < dim; ++i) f_ext_[dofs_.dof(s.node[a], i)] += s.N[a] * f[i];
+    }
+  }
+
+  const DofMap& dofs() const { return dofs_; }
+  const Vector& f_ext() const { return f_ext_; }
+  const std::vector<int>& constrained() const { return constrained_; }
+  const std::vector<double>& increments() const { return increments_; }
+  const SparseMatrix& pattern() const { return pattern_; }
+
+  /// Point loop: material update for the increment du, internal force and tangent.
+  void linearise(const Vector& du, Vector& f_int, SparseMatrix& K) {
+    const auto& pts = model_.points;
+    f_int = Vector::Zero(dofs_.num_dofs());
+    K = pattern_;
+    grads_.resize(pts.size());
+    weights_.resize(pts.size());
+    for (int p = 0; p < pts.size(); ++p) {
+      const Stencil<dim>& s = st_[p];
+      Mat3 g = Mat3::Zero();  // grad_n du (embedded in 3x3)
+      for (int a = 0; a < s.count; ++a)
+        for (int i = 0; i < dim; ++i) {
+          const double u = du[dofs_.dof(s.node[a], i)];
+          for (int j = 0; j < dim; ++j) g(i, j) += u * s.dN[a][j];
+        }
+      const Mat3 dF = Mat3::Identity() + g;
+      const double detdF = dF.determinant();
+      if (!(detdF > 0.0)) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", p, detdF)};
+      const Material& mat = *model_.materials[pts.material[p]];
+      MaterialResponse& r = response_[p];
+      mat.update(dF, pts.strain[p], r);
+      auto& G = grads_[p];  // gradients in the configuration the stress lives in
+      if (mat.finite_strain()) {
+        const Mat3 inv = dF.inverse();
+        for (int a = 0; a < s.count; ++a)
+          for (int l = 0; l < dim; ++l) {
+            double v = 0.0;
+            for (int m = 0; m < dim; ++m) v += s.dN[a][m] * inv(m, l);
+            G[a][l] = v;
+          }
+        weights_[p] = pts.original_volume[p];  // Kirchhoff stress on V_p = sigma on v_p
+      } else {
+        for (int a = 0; a < s.count; ++a) G[a] = s.dN[a];
+        weights_[p] = pts.volume[p];
+      }
+      const double w = weights_[p];
+      for (int a = 0; a < s.count; ++a)
+        for (int i = 0; i < dim; ++i) {
+          double f = 0.0;
+          for (int j = 0; j < dim; ++j) f += r.stress(i, j) * G[a][j];
+          f_int[dofs_.dof(s.node[a], i)] += w * f;
+        }
+    }
+    assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
+      const auto& G = grads_[p];
+      const Mat9& A = response_[p].tangent;
+      const double w = weights_[p];
+      for (int a = 0; a < s.count; ++a)
+        for (int b = 0; b < s.count; ++b)
+          for (int i = 0; i < dim; ++i)
+            for (int k = 0; k < dim; ++k) {
+              double v = 0.0;
+              for (int j = 0; j < dim; ++j)
+                for (int l = 0; l < dim; ++l) v += G[a][j] * A(3 * i + j, 3 * k + l) * G[b][l];
+              Ke(a * dim + i, b * dim + k) = w * v;
+            }
+    });
+  }
+
+  /// Eq. (2): maps the converged increment to the points and updates their state.
+  void commit(Model<dim>& m, const Vector& du) const {
+    auto& pts = m.points;
+    for (int p = 0; p < pts.size(); ++p) {
+      const Stencil<dim>& s = st_[p];
+      Vec<dim> dx = Vec<dim>::Zero();
+      Mat3 g = Mat3::Zero();
+      for (int a = 0; a < s.count; ++a)
+        for (int i = 0; i < dim; ++i) {
+          const double u = du[dofs_.dof(s.node[a], i)];
+          dx[i] += s.N[a] * u;
+          for (int j = 0; j < dim; ++j) g(i, j) += u * s.dN[a][j];
+        }
+      pts.position[p] += dx;
+      pts.F[p] = (Mat3::Identity() + g) * pts.F[p];
+      const double J = pts.F[p].determinant();
+      pts.volume[p] = J * pts.original_volume[p];
+      const MaterialResponse& r = response_[p];
+      pts.strain[p] = r.strain;
+      pts.stress[p] = m.materials[pts.material[p]]->finite_strain() ? Mat3(r.stress / J) : r.stress;
+      if (m.basis == BasisKind::CPGIMP)
+        for (int d = 0; d < dim; ++d) pts.half_length[p][d] = pts.original_half_length[p][d] * pts.F[p].col(d).norm();
+    }
+  }
+
+  /// Nodal mass sum_p N_i m_p at every grid node.
+  Vector grid_mass() const {
+    Vector mass = Vector::Zero(model_.grid.num_nodes());
+    for (int p = 0; p < model_.points.size(); ++p)
+      for (int a = 0; a < st_[p].count; ++a) mass[st_[p].node[a]] += st_[p].N[a] * model_.points.mass[p];
+    return mass;
+  }
+
+ private:
+  const Model<dim>& model_;
+  PointStencils<dim> st_;
+  DofMap dofs_;
+  SparseMatrix pattern_;
+  Assembler<dim> assembler_;
+  std::vector<int> constrained_;
+  std::vector<double> increments_;
+  Vector f_ext_;
+  std::vector<MaterialResponse> response_;
+  std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
+  std::vector<double> weights_;
+};
+
+/// Newton-Raphson for one load step; returns the converged increment or throws StepFailure.
+template <int dim>
+Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<double>& residuals) {
+  Vector du = Vector::Zero(step.dofs().num_dofs());
+  for (std::size_t k = 0; k < step.constrained().size(); ++k) du[step.constrained()[k]] = step.increments()[k];
+  const std::vector<double> zeros(step.constrained().size(), 0.0);
+  SpdSolver solver;
+  Vector f_int;
+  SparseMatrix K;
+  for (int it = 0;; ++it) {
+    step.linearise(du, f_int, K);
+    Vector r = step.f_ext() - f_int;
+    const double scale = std::max(step.f_ext().norm(), f_int.norm());
+    for (int c : step.constrained()) r[c] = 0.0;
+    const double err = scale > 0.0 ? r.norm() / scale : 0.0;
+    residuals.push_back(err);
+    if (!std::isfinite(err)) throw StepFailure{"the out-of-balance force is not finite"};
+    if (err < settings.tolerance) return du;
+    if (it == settings.max_iterations)
+      throw StepFailure{fmt::format("no convergence in {} iterations (residual {:.3e})", it, err)};
+    if (it >= 2 && err > 1e6 * std::max(residuals.front(), settings.tolerance))
+      throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
+    DirichletElimination bc;
+    bc.apply_to_matrix(K, step.constrained());
+    bc.apply_to_rhs(r, zeros);
+    try {
+      if (it == 0) solver.analyze(K);  // the pattern is fixed within the load step
+      solver.factorize(K);
+      du += solver.solve(r);
+    } catch (const SolverError& e) {
+      throw StepFailure{e.what()};
+    }
+  }
+}
+
+}  // namespace
+
+template <int dim>
+RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, const StepObserver<dim>& observer) {
+  using Clock = std::chrono::steady_clock;
+  RunSummary summary;
+  const double nominal = 1.0 / settings.load_steps;
+  double lambda = 0.0, dlambda = nominal;
+  while (lambda < 1.0 - 1e-12) {
+    dlambda = std::min(dlambda, 1.0 - lambda);
+    StepInfo info;
+    const auto t0 = Clock::now();
+    while (true) {
+      info.residuals.clear();
+      try {
+        std::unique_ptr<LoadStep<dim>> step;
+        try {
+          step = std::make_unique<LoadStep<dim>>(model, lambda + dlambda, dlambda);
+        } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
+          throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
+        }
+        const Vector du = newton(*step, settings, info.residuals);
+        step->commit(model, du);
+        info.grid_displacement = Vector::Zero(model.grid.num_nodes() * dim);
+        for (int i = 0; i < dim; ++i) {
+          const Vector gi = step->dofs().to_grid(du, i);
+          for (int n = 0; n < model.grid.num_nodes(); ++n) info.grid_displacement[n * dim + i] = gi[n];
+        }
+        info.grid_mass = step->grid_mass();
+        break;
+      } catch (const StepFailure& f) {
+        if (info.cuts == settings.max_cuts)
+          throw SolverError(fmt::format(
+              "load step {} failed from load factor {:.6g} with increment {:.3g} after {} cut(s): {}",
+              summary.steps + 1, lambda, dlambda, info.cuts, f.reason));
+        dlambda *= 0.5;
+        ++info.cuts;
+        ++summary.cuts;
+      }
+    }
+    lambda += dlambda;
+    if (1.0 - lambda < 1e-12) lambda = 1.0;
+    info.step = ++summary.steps;
+    info.load_factor = lambda;
+    info.increment = dlambda;
+    info.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
+    if (observer) observer(model, info);
+    if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
+  }
+  return summary;
+}
+
+template RunSummary run_quasi_static<1>(Model<1>&, const NewtonSettings&, const StepObserver<1>&);
+template RunSummary run_quasi_static<2>(Model<2>&, const NewtonSettings&, const StepObserver<2>&);
+template RunSummary run_quasi_static<3>(Model<3>&, const NewtonSettings&, const StepObserver<3>&);
+
+}  // namespace gradmpm
