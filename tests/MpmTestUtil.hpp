@@ -1,0 +1,70 @@
+#pragma once
+// Shared model builders of the MPM tests.
+#include <memory>
+
+#include "gradmpm/analytic/Column.hpp"
+#include "gradmpm/mpm/QuasiStatic.hpp"
+#include "gradmpm/points/Generate.hpp"
+
+namespace gradmpm::test {
+
+/// The large-deformation column: H0 = 10, rho0 = 1, g = 10, E = 80 (rho0 g H0 / E = 1.25,
+/// final height 0.691 H0), Hencky, nu = 0, 2 points per cell and direction.
+/// 1D: the axis is the height. 2D: one cell wide, rollers on both sides.
+inline constexpr double kH0 = 10.0, kRho = 1.0, kG = 10.0, kE = 80.0;
+
+inline analytic::Column column_closed_form() { return {kH0, kRho, kG, kE}; }
+
+template <int dim>
+Model<dim> make_column(int cells, BasisKind basis, int ppc = 2) {
+  // One extra cell below the base, so that GIMP domains of the lowest points may extend
+  // below y = 0 where every node is fixed (the support is not the grid boundary).
+  const double h = kH0 / cells;
+  Vec<dim> origin = Vec<dim>::Zero(), size = Vec<dim>::Constant(h);
+  origin[dim - 1] = -h;
+  typename Grid<dim>::Index n, first{}, last;
+  n.fill(1);
+  n[dim - 1] = cells + 1;
+  last = n;
+  first[dim - 1] = 1;
+  Model<dim> m(Grid<dim>(origin, size, n));
+  m.materials.push_back(std::make_shared<Hencky>(kE, 0.0, kRho));
+  m.basis = basis;
+  m.gravity[dim - 1] = -kG;
+  add_regular_points<dim>(m.grid, first, last, ppc, [](const Vec<dim>&) { return true; }, 0, kRho, m.points);
+  for (int node = 0; node < m.grid.num_nodes(); ++node) {
+    const auto ijk = m.grid.node_ijk(node);
+    if (ijk[dim - 1] <= 1)
+      for (int c = 0; c < dim; ++c) m.constraints.push_back({node, c, 0.0});  // base (y <= 0) fixed
+    for (int d = 0; d + 1 < dim; ++d)
+      if (ijk[d] == 0 || ijk[d] == n[d]) m.constraints.push_back({node, d, 0.0});  // lateral rollers
+  }
+  return m;
+}
+
+struct ColumnErrors {
+  double stress;     ///< max |sigma_yy - sigma_exact| / (rho0 g H0)
+  double position;   ///< max |y - y_exact| / H0
+  double stress_l2;  ///< sqrt(sum V_p (sigma_yy - sigma_exact)^2 / sum V_p) / (rho0 g H0)
+};
+
+template <int dim>
+ColumnErrors column_errors(const Model<dim>& m) {
+  const auto exact = column_closed_form();
+  ColumnErrors e{0, 0, 0};
+  double volume = 0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    const double Y = m.points.original_position[p][dim - 1];
+    const double ds = m.points.stress[p](dim - 1, dim - 1) - exact.cauchy_stress(Y);
+    e.stress = std::max(e.stress, std::abs(ds));
+    e.stress_l2 += ds * ds * m.points.original_volume[p];
+    volume += m.points.original_volume[p];
+    e.position = std::max(e.position, std::abs(m.points.position[p][dim - 1] - exact.position(Y)));
+  }
+  e.stress /= kRho * kG * kH0;
+  e.stress_l2 = std::sqrt(e.stress_l2 / volume) / (kRho * kG * kH0);
+  e.position /= kH0;
+  return e;
+}
+
+}  // namespace gradmpm::test

@@ -1,0 +1,107 @@
+// Requirements on the Newton load stepping:
+//  R1 the consistent tangent gives quadratic convergence on a finite-strain problem
+//     (the column in one load step: the residual history is printed and the rate checked);
+//  R2 a case with no load leaves every point where it was;
+//  R3 a step that fails is cut (halved) and retried; when the cuts are exhausted the run
+//     stops with SolverError and the points keep the last converged state;
+//  R4 points that leave the grid stop the run with their ids listed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "MpmTestUtil.hpp"
+#include "gradmpm/core/Errors.hpp"
+
+using namespace gradmpm;
+using namespace gradmpm::test;
+
+TEST(MpmNewton, QuadraticConvergenceOnAFiniteStrainStep) {
+  for (BasisKind b : {BasisKind::MPM, BasisKind::CPGIMP}) {
+    Model<2> m = make_column<2>(8, b);
+    NewtonSettings s;
+    s.load_steps = 1;  // the whole self-weight in one step: 31 % compression
+    s.tolerance = 1e-13;
+    std::vector<double> r;
+    run_quasi_static<2>(m, s, [&](const Model<2>&, const StepInfo& info) { r = info.residuals; });
+    std::cout << to_string(b) << " residuals:";
+    for (double x : r) std::cout << " " << x;
+    std::cout << "\n";
+    ASSERT_GE(r.size(), 4u);
+    int checked = 0;
+    for (std::size_t k = 1; k + 1 < r.size(); ++k)
+      if (r[k] < 1e-2 && r[k + 1] > 1e-14) {  // asymptotic range, above round-off
+        const double rate = std::log(r[k + 1]) / std::log(r[k]);
+        std::cout << "  log r_{k+1} / log r_k = " << rate << "\n";
+        EXPECT_GT(rate, 1.8);
+        ++checked;
+      }
+    EXPECT_GE(checked, 1);
+    EXPECT_LE(r.size(), 8u);
+  }
+}
+
+TEST(MpmNewton, NoLoadLeavesPointsInPlace) {
+  Model<2> m = make_column<2>(4, BasisKind::UGIMP);
+  m.gravity.setZero();
+  NewtonSettings s;
+  s.load_steps = 5;
+  const auto summary = run_quasi_static<2>(m, s);
+  EXPECT_EQ(summary.total_iterations, 0);
+  for (int p = 0; p < m.points.size(); ++p) {
+    EXPECT_EQ(m.points.position[p], m.points.original_position[p]);
+    EXPECT_EQ(m.points.stress[p].norm(), 0.0);
+  }
+}
+
+TEST(MpmNewton, FailingStepsAreCutAndRetried) {
+  Model<2> m = make_column<2>(8, BasisKind::CPGIMP);
+  NewtonSettings s;
+  s.load_steps = 1;
+  s.max_iterations = 3;  // too few for the whole load at once
+  const auto summary = run_quasi_static<2>(m, s);
+  EXPECT_GT(summary.cuts, 0);
+  const ColumnErrors cut = column_errors(m);
+  Model<2> ref = make_column<2>(8, BasisKind::CPGIMP);
+  NewtonSettings sr;
+  sr.load_steps = 8;
+  run_quasi_static<2>(ref, sr);
+  std::cout << "cuts " << summary.cuts << " steps " << summary.steps << " stress error " << cut.stress << " (8 steps: "
+            << column_errors(ref).stress << ")\n";
+  EXPECT_LT(cut.stress, 0.05);
+}
+
+TEST(MpmNewton, ExhaustedCutsStopWithTheLastConvergedState) {
+  Model<2> m = make_column<2>(8, BasisKind::MPM);
+  NewtonSettings s;
+  s.load_steps = 4;
+  s.max_iterations = 1;
+  s.max_cuts = 1;
+  const auto before = m.points.position;
+  try {
+    run_quasi_static<2>(m, s);
+    FAIL() << "expected SolverError";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("load step 1 failed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("after 1 cut(s)"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(m.points.position, before);
+}
+
+TEST(MpmNewton, PointsLeavingTheGridAreListed) {
+  // A block pushed down through the bottom of its grid by a prescribed displacement.
+  Model<1> m(Grid<1>(Vec<1>(0.0), Vec<1>(1.0), {4}));
+  m.materials.push_back(std::make_shared<LinearElastic>(100.0, 0.0, 1.0));
+  add_regular_points<1>(m.grid, {0}, {4}, 1, [](const Vec<1>&) { return true; }, 0, 1.0, m.points);
+  for (int node = 0; node < 5; ++node) m.constraints.push_back({node, 0, -2.0});  // rigid shift by -2
+  NewtonSettings s;
+  s.load_steps = 2;
+  try {
+    run_quasi_static<1>(m, s);
+    FAIL() << "expected SolverError";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("load step 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("outside the grid (ids): 0"), std::string::npos) << e.what();
+  }
+  EXPECT_NEAR(m.points.position[0][0], -0.5, 1e-14) << "the converged first step is kept";
+}
