@@ -86,7 +86,7 @@ TEST_F(Cli, BadInputExitsWithCode2AndOneLine) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"run " + (dir / "missing.toml").string(), "cannot open case file"},
       {"run " + (dir / "broken.toml").string(), "broken.toml:2:"},
-      {"run " + (dir / "nobar.toml").string(), "no problem section found; expected [bar]"},
+      {"run " + (dir / "nobar.toml").string(), "no problem section found; expected [bar] (1D bar) or [grid] (MPM)"},
       {"run " + ex + o + " --set bar.lenght=3", "bar.lenght (from --set): unknown key"},
       {"run " + ex + o + " --set bar.length=-1", "bar.length (from --set): expected a length > 0, got -1"},
       {"run " + ex + o + " --set bar.elements=0", "bar.elements (from --set): expected an integer from 1"},

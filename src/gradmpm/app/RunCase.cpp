@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "gradmpm/app/BarCase.hpp"
+#include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/io/StagedOutputs.hpp"
 
@@ -33,8 +34,13 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
   CaseFile cf = CaseFile::load(case_file, options.overrides);
   const std::filesystem::path out_dir =
       options.out.empty() ? std::filesystem::path("out") / case_file.stem() : options.out;
-  if (cf.has_section("bar")) return run_bar(cf, out_dir, options.quiet);
-  throw InputError(fmt::format("{}: no problem section found; expected [bar] (see examples/)", cf.name()));
+  const bool bar = cf.has_section("bar"), mpm = cf.has_section("grid");
+  if (bar && mpm)
+    throw InputError(fmt::format("{}: both [bar] and [grid]: a case is either the 1D bar or an MPM analysis", cf.name()));
+  if (bar) return run_bar(cf, out_dir, options.quiet);
+  if (mpm) return run_mpm_case(cf, out_dir, options.quiet);
+  throw InputError(
+      fmt::format("{}: no problem section found; expected [bar] (1D bar) or [grid] (MPM) (see examples/)", cf.name()));
 }
 
 }  // namespace gradmpm

@@ -84,10 +84,27 @@ void CaseFile::apply_override(const std::string& assignment) {
 
   toml::table* t = &table_;
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-    toml::node* child = t->get(parts[i]);
-    if (!child) child = &t->insert_or_assign(parts[i], toml::table{}).first->second;
+    // "name[k]" addresses entry k of an array of tables ([[name]]).
+    std::string part = parts[i];
+    long index = -1;
+    if (const auto lb = part.find('['); lb != std::string::npos && part.back() == ']') {
+      const std::string digits = part.substr(lb + 1, part.size() - lb - 2);
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(fmt::format("--set '{}': '{}' is not name[index]", assignment, part));
+      index = std::stol(digits);
+      part = part.substr(0, lb);
+    }
+    toml::node* child = t->get(part);
+    if (index >= 0) {
+      toml::array* a = child ? child->as_array() : nullptr;
+      if (!a || index >= static_cast<long>(a->size()) || !(*a)[static_cast<std::size_t>(index)].is_table())
+        throw InputError(fmt::format("--set '{}': {} has no entry [{}] in {}", assignment, part, index, name_));
+      t = (*a)[static_cast<std::size_t>(index)].as_table();
+      continue;
+    }
+    if (!child) child = &t->insert_or_assign(part, toml::table{}).first->second;
     t = child->as_table();
-    if (!t) throw InputError(fmt::format("--set '{}': '{}' is not a section in {}", assignment, parts[i], name_));
+    if (!t) throw InputError(fmt::format("--set '{}': '{}' is not a section in {}", assignment, part, name_));
   }
   if (const toml::node* existing = t->get(parts.back()); existing && existing->is_table())
     throw InputError(fmt::format("--set '{}': '{}' is a section in {}, not a key", assignment, key, name_));
@@ -101,32 +118,78 @@ bool CaseFile::has_section(std::string_view section) const {
 }
 
 void CaseFile::declare_section(const std::string& section, std::initializer_list<std::string> keys, bool required) {
-  declared_[section] = std::vector<std::string>(keys);
+  declared_[section] = {Kind::Section, std::vector<std::string>(keys)};
   const toml::node* n = table_.get(section);
   if (n && !n->is_table())
     throw InputError(fmt::format("{}: {}: expected a section [{}], got a value", name_, section, section));
   if (required && !n)
-    throw InputError(fmt::format("{}: missing section [{}] (keys: {})", name_, section, join(declared_[section])));
+    throw InputError(fmt::format("{}: missing section [{}] (keys: {})", name_, section, join(declared_[section].keys)));
+}
+
+void CaseFile::declare_array(const std::string& name, std::initializer_list<std::string> keys) {
+  declared_[name] = {Kind::Array, std::vector<std::string>(keys)};
+  const toml::node* n = table_.get(name);
+  if (n && !n->is_array_of_tables())
+    throw InputError(fmt::format("{}: {}: expected an array of tables [[{}]]", name_, name, name));
+}
+
+void CaseFile::declare_table_of_sections(const std::string& name, std::initializer_list<std::string> keys) {
+  declared_[name] = {Kind::TableOfSections, std::vector<std::string>(keys)};
+  const toml::node* n = table_.get(name);
+  if (!n) return;
+  if (!n->is_table()) throw InputError(fmt::format("{}: {}: expected sections [{}.NAME]", name_, name, name));
+  for (const auto& [k, v] : *n->as_table())
+    if (!v.is_table())
+      throw InputError(fmt::format("{}: {}.{}: expected a section [{}.{}], got a value", name_, name, k.str(), name,
+                                   k.str()));
+}
+
+std::size_t CaseFile::array_size(const std::string& name) const {
+  const toml::node* n = table_.get(name);
+  return n && n->is_array() ? n->as_array()->size() : 0;
+}
+
+std::vector<std::string> CaseFile::subsections(const std::string& name) const {
+  std::vector<std::string> out;
+  if (const toml::node* n = table_.get(name); n && n->is_table())
+    for (const auto& [k, v] : *n->as_table()) out.emplace_back(k.str());
+  return out;
+}
+
+void CaseFile::check_keys(const toml::table& t, const std::string& prefix, const std::vector<std::string>& keys,
+                          const std::string& where_desc) const {
+  for (const auto& [kk, v] : t) {
+    const std::string key(kk.str());
+    bool known = false;
+    for (const auto& d : keys) known = known || d == key;
+    if (!known)
+      throw InputError(
+          fmt::format("{}: unknown key (valid keys in {}: {})", where(prefix + "." + key), where_desc, join(keys)));
+  }
 }
 
 void CaseFile::reject_unknown() const {
   std::vector<std::string> sections;
-  for (const auto& [s, keys] : declared_) sections.push_back("[" + s + "]");
+  for (const auto& [s, d] : declared_) sections.push_back(d.kind == Kind::Array ? "[[" + s + "]]" : "[" + s + "]");
   for (const auto& [k, node] : table_) {
     const std::string section(k.str());
     const auto it = declared_.find(section);
     if (it == declared_.end()) {
-      if (node.is_table())
+      if (node.is_table() || node.is_array_of_tables())
         throw InputError(fmt::format("{}: unknown section [{}] (expected {})", name_, section, join(sections)));
       throw InputError(fmt::format("{}: {}: unknown top-level key (expected the sections {})", name_, section, join(sections)));
     }
-    for (const auto& [kk, v] : *node.as_table()) {
-      const std::string key(kk.str());
-      bool known = false;
-      for (const auto& d : it->second) known = known || d == key;
-      if (!known)
-        throw InputError(fmt::format("{}: unknown key (valid keys in [{}]: {})", where(section + "." + key), section,
-                                     join(it->second)));
+    const Declared& d = it->second;
+    if (d.kind == Kind::Section) {
+      check_keys(*node.as_table(), section, d.keys, "[" + section + "]");
+    } else if (d.kind == Kind::Array) {
+      const toml::array& a = *node.as_array();
+      for (std::size_t i = 0; i < a.size(); ++i)
+        check_keys(*a[i].as_table(), fmt::format("{}[{}]", section, i), d.keys, "[[" + section + "]]");
+    } else {
+      for (const auto& [sub, t] : *node.as_table())
+        check_keys(*t.as_table(), section + "." + std::string(sub.str()), d.keys,
+                   "[" + section + "." + std::string(sub.str()) + "]");
     }
   }
 }
@@ -198,6 +261,56 @@ std::vector<double> CaseFile::numbers(const std::string& key, std::size_t count)
     const auto v = e.value<double>();
     if (!v || !(e.is_floating_point() || e.is_integer()) || !std::isfinite(*v)) fail(key, expected);
     out.push_back(*v);
+  }
+  return out;
+}
+
+std::vector<double> CaseFile::number_list(const std::string& key) const {
+  const toml::node& n = need(key, "an array of numbers");
+  const toml::array* a = n.as_array();
+  if (!a || a->empty()) fail(key, "a non-empty array of numbers");
+  return numbers(key, a->size());
+}
+
+std::vector<std::vector<double>> CaseFile::vector_list(const std::string& key, std::size_t count) const {
+  const std::string expected = fmt::format("an array of [{}] coordinate arrays", count);
+  const toml::node& n = need(key, expected);
+  const toml::array* a = n.as_array();
+  if (!a || a->empty()) fail(key, expected);
+  std::vector<std::vector<double>> out;
+  for (const auto& e : *a) {
+    const toml::array* v = e.as_array();
+    if (!v || v->size() != count) fail(key, expected);
+    out.emplace_back();
+    for (const auto& x : *v) {
+      const auto d = x.value<double>();
+      if (!d || !(x.is_integer() || x.is_floating_point()) || !std::isfinite(*d)) fail(key, expected);
+      out.back().push_back(*d);
+    }
+  }
+  return out;
+}
+
+std::vector<long long> CaseFile::integer_list(const std::string& key) const {
+  const toml::node& n = need(key, "an array of integers");
+  const toml::array* a = n.as_array();
+  if (!a) fail(key, "an array of integers");
+  std::vector<long long> out;
+  for (const auto& e : *a) {
+    if (!e.is_integer()) fail(key, "an array of integers");
+    out.push_back(*e.value<long long>());
+  }
+  return out;
+}
+
+std::vector<std::string> CaseFile::string_list(const std::string& key) const {
+  const toml::node& n = need(key, "an array of strings");
+  const toml::array* a = n.as_array();
+  if (!a) fail(key, "an array of strings");
+  std::vector<std::string> out;
+  for (const auto& e : *a) {
+    if (!e.is_string()) fail(key, "an array of strings");
+    out.push_back(*e.value<std::string>());
   }
   return out;
 }

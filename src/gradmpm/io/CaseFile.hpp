@@ -34,6 +34,19 @@ class CaseFile {
   /// Declares the keys a section may hold; `required` sections must be present.
   void declare_section(const std::string& section, std::initializer_list<std::string> keys,
                        bool required);
+  /// Declares an array of tables ([[name]]) and the keys each entry may hold.
+  void declare_array(const std::string& name, std::initializer_list<std::string> keys);
+  /// Declares a table of tables ([name.X] for any X) and the keys each may hold.
+  void declare_table_of_sections(const std::string& name, std::initializer_list<std::string> keys);
+  /// Number of entries of an array of tables (0 when absent).
+  std::size_t array_size(const std::string& name) const;
+  /// Names of the sub-tables of a table of sections, in file order.
+  std::vector<std::string> subsections(const std::string& name) const;
+  bool has(const std::string& key) const { return find(key) != nullptr; }
+  bool is_array(const std::string& key) const {
+    const toml::node* n = find(key);
+    return n && n->is_array();
+  }
   /// Throws on any section or key that was not declared.
   void reject_unknown() const;
 
@@ -46,6 +59,12 @@ class CaseFile {
   std::string string_or(const std::string& key, const std::string& fallback) const;
   bool boolean_or(const std::string& key, bool fallback) const;
   std::vector<double> numbers(const std::string& key, std::size_t count) const;
+  /// An array of numbers of any length >= 1.
+  std::vector<double> number_list(const std::string& key) const;
+  /// An array of `count`-vectors, e.g. polygon = [[0, 0], [1, 0], [0, 1]].
+  std::vector<std::vector<double>> vector_list(const std::string& key, std::size_t count) const;
+  std::vector<long long> integer_list(const std::string& key) const;
+  std::vector<std::string> string_list(const std::string& key) const;
 
   /// Throws InputError "<file>: <key>: expected <expected>, got <value as written>".
   [[noreturn]] void fail(const std::string& key, std::string_view expected) const;
@@ -64,7 +83,14 @@ class CaseFile {
   toml::table table_;
   std::string name_;
   std::set<std::string> overridden_;
-  std::map<std::string, std::vector<std::string>> declared_;  // section -> keys
+  enum class Kind { Section, Array, TableOfSections };
+  struct Declared {
+    Kind kind;
+    std::vector<std::string> keys;
+  };
+  void check_keys(const toml::table& t, const std::string& prefix, const std::vector<std::string>& keys,
+                  const std::string& where_desc) const;
+  std::map<std::string, Declared> declared_;  // section -> keys
 };
 
 }  // namespace gradmpm

@@ -1,0 +1,114 @@
+#include "gradmpm/io/Vtk.hpp"
+
+#include <fmt/format.h>
+
+#include <iterator>
+#include <stdexcept>
+
+namespace gradmpm {
+
+namespace {
+void header(std::string& s, std::size_t points, std::size_t cells) {
+  s += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+       "header_type=\"UInt64\">\n<UnstructuredGrid>\n";
+  fmt::format_to(std::back_inserter(s), "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", points, cells);
+}
+
+void coordinates(std::string& s, const std::vector<double>& xyz) {
+  s += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (double v : xyz) fmt::format_to(std::back_inserter(s), "{} ", v);
+  s += "\n</DataArray>\n</Points>\n";
+}
+
+void cells(std::string& s, const std::vector<long>& connectivity, int per_cell, int vtk_type) {
+  const std::size_t n = connectivity.size() / per_cell;
+  s += "<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (long c : connectivity) fmt::format_to(std::back_inserter(s), "{} ", c);
+  s += "\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(s), "{} ", i * per_cell);
+  s += "\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) fmt::format_to(std::back_inserter(s), "{} ", vtk_type);
+  s += "\n</DataArray>\n</Cells>\n";
+}
+
+void point_data(std::string& s, const std::vector<VtkField>& fields, std::size_t n) {
+  s += "<PointData>\n";
+  for (const auto& f : fields) {
+    if (f.values.size() != n * f.components) throw std::logic_error("VTK field " + f.name + " has the wrong size");
+    fmt::format_to(std::back_inserter(s), "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
+                   f.integer ? "Int64" : "Float64", f.name, f.components);
+    for (double v : f.values) {
+      if (f.integer)
+        fmt::format_to(std::back_inserter(s), "{} ", static_cast<long long>(v));
+      else
+        fmt::format_to(std::back_inserter(s), "{} ", v);
+    }
+    s += "\n</DataArray>\n";
+  }
+  s += "</PointData>\n";
+}
+
+void footer(std::string& s) { s += "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n"; }
+}  // namespace
+
+std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkField>& fields) {
+  const std::size_t n = xyz.size() / 3;
+  std::string s;
+  header(s, n, n);
+  coordinates(s, xyz);
+  std::vector<long> conn(n);
+  for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<long>(i);
+  cells(s, conn, 1, 1);  // VTK_VERTEX
+  point_data(s, fields, n);
+  footer(s);
+  return s;
+}
+
+template <int dim>
+std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields) {
+  std::vector<double> xyz;
+  for (int n = 0; n < grid.num_nodes(); ++n) {
+    const Vec<dim> x = grid.node_position(n);
+    for (int d = 0; d < 3; ++d) xyz.push_back(d < dim ? x[d] : 0.0);
+  }
+  // Corners in VTK order: line (0,1); quad (00,10,11,01); hexahedron bottom then top face.
+  static constexpr int order[3][8] = {{0, 1}, {0, 1, 3, 2}, {0, 1, 3, 2, 4, 5, 7, 6}};
+  constexpr int corners = 1 << dim;
+  std::vector<long> conn;
+  typename Grid<dim>::Index c{};
+  const auto& nc = grid.cells();
+  for (int cell = 0; cell < grid.num_cells(); ++cell) {
+    int r = cell;
+    for (int d = 0; d < dim; ++d) {
+      c[d] = r % nc[d];
+      r /= nc[d];
+    }
+    for (int k = 0; k < corners; ++k) {
+      const int bits = order[dim - 1][k];
+      typename Grid<dim>::Index ijk;
+      for (int d = 0; d < dim; ++d) ijk[d] = c[d] + ((bits >> d) & 1);
+      conn.push_back(grid.node_index(ijk));
+    }
+  }
+  std::string s;
+  header(s, grid.num_nodes(), grid.num_cells());
+  coordinates(s, xyz);
+  cells(s, conn, corners, dim == 1 ? 3 : (dim == 2 ? 9 : 12));
+  point_data(s, fields, grid.num_nodes());
+  footer(s);
+  return s;
+}
+
+template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&);
+template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&);
+template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&);
+
+std::string pvd(const std::vector<std::pair<double, std::string>>& entries) {
+  std::string s = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n<Collection>\n";
+  for (const auto& [t, file] : entries)
+    fmt::format_to(std::back_inserter(s), "<DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", t, file);
+  s += "</Collection>\n</VTKFile>\n";
+  return s;
+}
+
+}  // namespace gradmpm

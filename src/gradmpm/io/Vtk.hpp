@@ -1,0 +1,30 @@
+#pragma once
+// ParaView-readable VTK XML: unstructured grids (.vtu) for material points (vertex
+// cells) and for the background grid (lines, quads or hexahedra), and .pvd collections
+// that index them by load factor. ASCII, so the files can be inspected and diffed.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gradmpm/grid/Grid.hpp"
+
+namespace gradmpm {
+
+struct VtkField {
+  std::string name;
+  int components = 1;          ///< 1 scalar, 3 vector, 9 tensor (row-major)
+  std::vector<double> values;  ///< size = n * components
+  bool integer = false;        ///< written as Int64
+};
+
+/// Points as VTK_VERTEX cells; `xyz` has 3 coordinates per point.
+std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkField>& fields);
+
+/// The whole background grid; `fields` are nodal (PointData).
+template <int dim>
+std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields);
+
+/// A collection: (load factor, file name relative to the .pvd).
+std::string pvd(const std::vector<std::pair<double, std::string>>& entries);
+
+}  // namespace gradmpm
