@@ -79,7 +79,11 @@ TEST_F(Cli, HelpExplainsTheCommands) {
 
 TEST_F(Cli, BadInputExitsWithCode2AndOneLine) {
   std::ofstream(dir / "broken.toml") << "[bar]\nlength = = 1\n";
-  std::ofstream(dir / "nobar.toml") << "[grid]\ncells = 3\n";
+  std::ofstream(dir / "nobar.toml") << "[mesh]\ncells = 3\n";
+  std::ofstream(dir / "mpm.toml") << "[grid]\norigin = [0.0]\ncell_size = 1.0\ncells = [4]\n"
+                                     "[materials.a]\nmodel = \"hencky\"\nyoung = 1.0\n"
+                                     "[[bodies]]\nmaterial = \"b\"\nmin = [0.0]\nmax = [2.0]\n"
+                                     "[load_steps]\ncount = 2\n";
   std::ofstream(dir / "a_file") << "x";
   const std::string ex = example();
   const std::string o = " --out " + (dir / "o").string();
@@ -99,6 +103,11 @@ TEST_F(Cli, BadInputExitsWithCode2AndOneLine) {
       {"run " + ex + o + " --set bar.length=abc", "expected a number, got \"abc\""},
       {"run " + ex + " --out " + (dir / "a_file" / "sub").string(), "cannot create output directory"},
       {"run " + ex + o + " --set nokey", "expected section.key=value"},
+      {"run " + (dir / "mpm.toml").string() + o, "bodies[0].material: expected the name of a [materials.NAME] section (one of: a)"},
+      {"run " + (dir / "mpm.toml").string() + o + " --set bodies[0].material=a --set bodies[0].max=[5.0]", "bodies[0].max (from --set): expected a body inside the grid"},
+      {"run " + (dir / "mpm.toml").string() + o + " --set bodies[0].material=a --set load_steps.count=0", "load_steps.count (from --set): expected an integer from 1"},
+      {"run " + (dir / "mpm.toml").string() + o + " --set bodies[0].material=a --set materials.a.poisson=0.5", "materials.a.poisson (from --set): expected a Poisson's ratio in (-1, 0.5)"},
+      {"run " + (dir / "mpm.toml").string() + o + " --set bodies[3].material=a", "bodies has no entry [3]"},
       {"run", "case is required"},
       {"run " + ex + " --bogus", "--bogus"},
       {"", "A subcommand is required"},

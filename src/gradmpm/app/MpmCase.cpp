@@ -426,8 +426,10 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       if (!quiet) {
         std::string res;
         for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
-        fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}  residuals{}  ({:.2f} s)\n", info.step,
-                   info.load_factor, static_cast<int>(info.residuals.size()) - 1, info.cuts, res, info.seconds);
+        fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}  residuals{}{}  ({:.2f} s)\n", info.step,
+                   info.load_factor, static_cast<int>(info.residuals.size()) - 1, info.cuts, res,
+                   info.indefinite_solves ? fmt::format("  [{} indefinite tangent(s), LU]", info.indefinite_solves) : "",
+                   info.seconds);
         std::fflush(stdout);
       }
     });

@@ -16,10 +16,12 @@
 
 namespace gradmpm {
 
-/// One-dimensional GIMP weight and derivative; returns false outside the support.
+/// One-dimensional GIMP weight and derivative; returns false outside the support. An
+/// overlap below 1e-9 h counts as none: a domain that touches the edge of a node's
+/// support to round-off would otherwise bring in a node with N ~ 1e-16 and no stiffness.
 inline bool gimp_1d(double d, double h, double lp, double& S, double& dS) {
   const double a = std::abs(d);
-  if (a >= h + lp) return false;
+  if (a >= h + lp - 1e-9 * h) return false;
   const double sgn = d < 0 ? -1.0 : 1.0;
   if (a <= lp) {
     S = 1.0 - (d * d + lp * lp) / (2.0 * h * lp);

@@ -45,6 +45,7 @@ struct StepInfo {
   double increment = 0.0;        ///< d lambda of the step
   int cuts = 0;                  ///< halvings needed before this step converged
   std::vector<double> residuals; ///< normalised out-of-balance force per Newton iteration
+  int indefinite_solves = 0;     ///< iterations whose tangent was not positive definite (solved by LU)
   Vector grid_displacement;      ///< the step's displacement increment at every grid node (dim per node)
   Vector grid_mass;              ///< nodal mass sum_p N_i m_p (eq. 1)
   double seconds = 0.0;

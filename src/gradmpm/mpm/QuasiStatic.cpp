@@ -165,7 +165,7 @@ class LoadStep {
 
 /// Newton-Raphson for one load step; returns the converged increment or throws StepFailure.
 template <int dim>
-Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<double>& residuals) {
+Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<double>& residuals, int& indefinite) {
   // The first iterate linearises about the converged state (du = 0) and brings the
   // prescribed increments in through the right-hand side: d_c = du_c, K_ff d_f = r_f - K_fc du_c.
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
@@ -197,8 +197,15 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
     bc.apply_to_rhs(r, it == 0 ? step.increments() : zeros);
     try {
       if (it == 0) solver.analyze(K);  // the pattern is fixed within the load step
-      solver.factorize(K);
-      du += solver.solve(r);
+      try {
+        solver.factorize(K);
+        du += solver.solve(r);
+      } catch (const SolverError&) {
+        // Not positive definite at this iterate (a distorted trial state, or a genuine
+        // instability): the symmetric indefinite system still has a Newton step.
+        du += SpdSolver::solve_general(K, r);
+        ++indefinite;
+      }
     } catch (const SolverError& e) {
       throw StepFailure{e.what()};
     }
@@ -226,7 +233,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
         } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
           throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
         }
-        const Vector du = newton(*step, settings, info.residuals);
+        const Vector du = newton(*step, settings, info.residuals, info.indefinite_solves);
         step->commit(model, du);
         info.grid_displacement = Vector::Zero(model.grid.num_nodes() * dim);
         for (int i = 0; i < dim; ++i) {

@@ -1,5 +1,7 @@
 #include "gradmpm/solver/Dirichlet.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace gradmpm {
@@ -14,16 +16,21 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
       throw std::out_of_range("Dirichlet constraint on a dof outside the system");
     index[dofs[k]] = static_cast<int>(k);
   }
+  // Constrained equations get the largest diagonal of A: the scale of the system, so the
+  // factorisation sees no tiny or negative pivot there whatever the row held before.
+  double scale = 0.0;
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it)
+      if (it.row() == col) scale = std::max(scale, std::abs(it.value()));
+  if (!(scale > 0.0)) scale = 1.0;
+  diagonal_.assign(dofs.size(), scale);
   for (int col = 0; col < A.outerSize(); ++col) {
     for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
       const int row = it.row();
       const int kc = index[col], kr = index[row];
       if (kc < 0 && kr < 0) continue;
       if (row == col) {
-        // Keep the diagonal so the constrained equation has the scale of its
-        // neighbours (better conditioning than 1).
-        if (it.value() > 0.0) diagonal_[kc] = it.value();
-        it.valueRef() = diagonal_[kc];
+        it.valueRef() = scale;
         continue;
       }
       if (kc >= 0 && kr < 0) removed_.push_back({row, kc, it.value()});

@@ -1,8 +1,9 @@
 #pragma once
 // Prescribed values u_c = g_c by symmetric elimination that keeps the sparsity
 // pattern (and so CHOLMOD's symbolic analysis): rows and columns of constrained dofs
-// are zeroed, their diagonal kept, and the removed column entries remembered so
-// that every right-hand side can be lifted: b_i -= A_ic g_c, b_c = A_cc g_c.
+// are zeroed, their diagonal set to s = max_i |A_ii| (the scale of the system), and the
+// removed column entries remembered so that every right-hand side can be lifted:
+// b_i -= A_ic g_c, b_c = s g_c.
 #include <vector>
 
 #include "gradmpm/core/Types.hpp"

@@ -2,6 +2,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 
 #include "gradmpm/core/Errors.hpp"
 
@@ -12,7 +13,12 @@ struct SpdSolver::Impl {
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
 };
 
-SpdSolver::SpdSolver(Backend backend) : backend_(backend), impl_(std::make_unique<Impl>()) {}
+SpdSolver::SpdSolver(Backend backend) : backend_(backend), impl_(std::make_unique<Impl>()) {
+  // Failures are reported through SolverError; CHOLMOD's own printing would only
+  // duplicate them on stderr.
+  impl_->cholmod.cholmod().print = 0;
+  impl_->cholmod.cholmod().error_handler = nullptr;
+}
 SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
@@ -60,6 +66,15 @@ Vector SpdSolver::solve(const Vector& b) const {
   Vector x = backend_ == Backend::Cholmod ? Vector(impl_->cholmod.solve(b))
                                           : Vector(impl_->ldlt.solve(b));
   if (!x.allFinite()) throw SolverError("sparse solve produced non-finite values");
+  return x;
+}
+
+Vector SpdSolver::solve_general(const SparseMatrix& A, const Vector& b) {
+  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
+  lu.compute(A);
+  if (lu.info() != Eigen::Success) throw SolverError("sparse LU failed: the matrix is singular");
+  Vector x = lu.solve(b);
+  if (lu.info() != Eigen::Success || !x.allFinite()) throw SolverError("sparse LU solve failed");
   return x;
 }
 

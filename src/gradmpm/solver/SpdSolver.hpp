@@ -29,6 +29,10 @@ class SpdSolver {
   Vector solve(const Vector& b) const;
 
   Backend backend() const { return backend_; }
+
+  /// x = A^{-1} b for a general (e.g. indefinite) square A by sparse LU; throws
+  /// SolverError if A is singular. For the occasional tangent that is not positive definite.
+  static Vector solve_general(const SparseMatrix& A, const Vector& b);
   static std::string_view name(Backend b);
 
  private:
