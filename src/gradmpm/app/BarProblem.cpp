@@ -29,16 +29,28 @@ std::vector<double> point_strains(const PointStencils<1>& st, const Vector& u) {
   return eps;
 }
 
-/// sigma_p = law(eps_p): the constitutive update at every point.
+/// The bar's axial modulus: the xx-xx entry of the material's tangent (E for nu = 0).
+double axial_modulus(const Material& m) {
+  MaterialResponse r;
+  m.update(Mat3::Identity(), Mat3::Zero(), r);
+  return r.tangent(0, 0);
+}
+/// sigma_p = law(eps_p): the constitutive update at every point (axial strain only).
 std::vector<double> point_stresses(const BarResult& r, const std::vector<double>& eps) {
   std::vector<double> sig(eps.size());
-  for (std::size_t p = 0; p < eps.size(); ++p) sig[p] = r.materials[r.points.material[p]].stress(eps[p]);
+  MaterialResponse resp;
+  for (std::size_t p = 0; p < eps.size(); ++p) {
+    Mat3 dF = Mat3::Identity();
+    dF(0, 0) += eps[p];
+    r.materials[r.points.material[p]].update(dF, Mat3::Zero(), resp);
+    sig[p] = resp.stress(0, 0);
+  }
   return sig;
 }
 /// eps_p = sigma_p / E_p (s-RA: the strain that goes with a smoothed stress).
 std::vector<double> point_compliant_strains(const BarResult& r, const std::vector<double>& sig) {
   std::vector<double> eps(sig.size());
-  for (std::size_t p = 0; p < sig.size(); ++p) eps[p] = sig[p] / r.materials[r.points.material[p]].tangent();
+  for (std::size_t p = 0; p < sig.size(); ++p) eps[p] = sig[p] / r.point_young[p];
   return eps;
 }
 
@@ -71,8 +83,9 @@ BarResult solve_bar(const BarConfig& c) {
   add_gauss_points<1>(
       grid, {0}, {c.elements}, c.points_per_element,
       [&](const Vec<1>& x) { return x[0] < x_interface ? 0 : 1; }, r.points);
-  r.materials = {LinearElastic1D{c.young_left}, LinearElastic1D{c.young_right}};
-  for (int m : r.points.material) r.point_young.push_back(r.materials[m].young);
+  r.materials = {LinearElastic(c.young_left, 0.0, 0.0), LinearElastic(c.young_right, 0.0, 0.0)};
+  const double moduli[2] = {axial_modulus(r.materials[0]), axial_modulus(r.materials[1])};
+  for (int m : r.points.material) r.point_young.push_back(moduli[m]);
 
   const PointStencils<1> st = evaluate_stencils<1, LinearBasis<1>>(grid, r.points);
   const DofMap dofs(st, grid.num_nodes(), 1);
@@ -83,7 +96,7 @@ BarResult solve_bar(const BarConfig& c) {
   // Classical problem: K_ab = sum_p dN_a E_p dN_b V_p, u(0) = 0, u(L) = delta.
   SparseMatrix K = pattern;
   assembler.add_matrix(K, [&](int p, const Stencil<1>& s, Assembler<1>::LocalMatrix& Ke) {
-    const double w = r.materials[r.points.material[p]].tangent() * r.points.volume[p];
+    const double w = r.point_young[p] * r.points.volume[p];
     for (int a = 0; a < s.count; ++a)
       for (int b = 0; b < s.count; ++b) Ke(a, b) = w * s.dN[a][0] * s.dN[b][0];
   });

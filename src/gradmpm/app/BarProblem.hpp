@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "gradmpm/gradient/Variant.hpp"
-#include "gradmpm/materials/LinearElastic.hpp"
+#include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/solver/SpdSolver.hpp"
 
@@ -41,7 +41,7 @@ struct BarResult {
   Vector stress_classical, stress_gradient;
   // --- at the material points
   MaterialPoints<1> points;
-  std::vector<LinearElastic1D> materials;  ///< indexed by points.material (0 left, 1 right)
+  std::vector<LinearElastic> materials;  ///< indexed by points.material (0 left, 1 right); nu = 0
   std::vector<double> point_young;
   std::vector<double> point_strain_classical, point_strain_gradient;
   std::vector<double> point_stress_classical, point_stress_gradient;

@@ -21,6 +21,21 @@ struct StepFailure {
   std::string reason;
 };
 
+/// grad_n du = sum_a du_a (x) dN_a at one point (embedded in 3x3), and optionally the
+/// point's displacement sum_a N_a du_a (eq. 2).
+template <int dim>
+Mat3 increment_gradient(const Stencil<dim>& s, const DofMap& dofs, const Vector& du, Vec<dim>* dx = nullptr) {
+  Mat3 g = Mat3::Zero();
+  if (dx) dx->setZero();
+  for (int a = 0; a < s.count; ++a)
+    for (int i = 0; i < dim; ++i) {
+      const double u = du[dofs.dof(s.node[a], i)];
+      if (dx) (*dx)[i] += s.N[a] * u;
+      for (int j = 0; j < dim; ++j) g(i, j) += u * s.dN[a][j];
+    }
+  return g;
+}
+
 /// The grid-side work of one load step: stencils at x_n, active dofs, the sparsity
 /// pattern, the prescribed increments, and the point loop of every Newton iteration.
 template <int dim>
@@ -66,13 +81,7 @@ class LoadStep {
     weights_.resize(pts.size());
     for (int p = 0; p < pts.size(); ++p) {
       const Stencil<dim>& s = st_[p];
-      Mat3 g = Mat3::Zero();  // grad_n du (embedded in 3x3)
-      for (int a = 0; a < s.count; ++a)
-        for (int i = 0; i < dim; ++i) {
-          const double u = du[dofs_.dof(s.node[a], i)];
-          for (int j = 0; j < dim; ++j) g(i, j) += u * s.dN[a][j];
-        }
-      const Mat3 dF = Mat3::Identity() + g;
+      const Mat3 dF = Mat3::Identity() + increment_gradient(s, dofs_, du);
       const double detdF = dF.determinant();
       if (!(detdF > 0.0)) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", p, detdF)};
       const Material& mat = *model_.materials[pts.material[p]];
@@ -120,15 +129,8 @@ class LoadStep {
   void commit(Model<dim>& m, const Vector& du) const {
     auto& pts = m.points;
     for (int p = 0; p < pts.size(); ++p) {
-      const Stencil<dim>& s = st_[p];
-      Vec<dim> dx = Vec<dim>::Zero();
-      Mat3 g = Mat3::Zero();
-      for (int a = 0; a < s.count; ++a)
-        for (int i = 0; i < dim; ++i) {
-          const double u = du[dofs_.dof(s.node[a], i)];
-          dx[i] += s.N[a] * u;
-          for (int j = 0; j < dim; ++j) g(i, j) += u * s.dN[a][j];
-        }
+      Vec<dim> dx;
+      const Mat3 g = increment_gradient(st_[p], dofs_, du, &dx);
       pts.position[p] += dx;
       pts.F[p] = (Mat3::Identity() + g) * pts.F[p];
       const double J = pts.F[p].determinant();
