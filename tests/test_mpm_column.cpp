@@ -5,7 +5,7 @@
 //     stress error converges at first order and the position error faster;
 //  R2 standard MPM does not converge (cell-crossing noise) and GIMP removes it: the
 //     measured errors are printed for all three bases;
-//  R3 plane strain with lateral rollers reproduces the 1D column exactly;
+//  R3 plane strain and 3D with lateral rollers reproduce the 1D column exactly;
 //  R4 mass is conserved: the nodal masses sum to the total point mass in every step.
 #include <gtest/gtest.h>
 
@@ -87,6 +87,22 @@ TEST(MpmColumn, PlaneStrainWithRollersIsThe1DColumn) {
       EXPECT_NEAR(m2.points.stress[p](1, 1), m1.points.stress[q](0, 0), 1e-9);
       EXPECT_NEAR(m2.points.position[p][0], m2.points.original_position[p][0], 1e-13) << "no lateral motion";
     }
+  }
+}
+
+TEST(MpmColumn, ThreeDimensionalColumnWithRollersIsThe1DColumn) {
+  Model<1> m1 = make_column<1>(8, BasisKind::CPGIMP);
+  Model<3> m3 = make_column<3>(8, BasisKind::CPGIMP);
+  NewtonSettings s;
+  s.load_steps = 10;
+  run_quasi_static<1>(m1, s);
+  s.linear_solver = SpdSolver::Backend::EigenLDLT;  // and the fallback solver gives the same answer
+  run_quasi_static<3>(m3, s);
+  ASSERT_EQ(m3.points.size(), 4 * m1.points.size());
+  for (int p = 0; p < m3.points.size(); ++p) {
+    const int q = p / 8 * 2 + (p % 8) / 4;  // 2x2x2 points per cell: z-layers pair with the 1D points
+    EXPECT_NEAR(m3.points.position[p][2], m1.points.position[q][0], 1e-10);
+    EXPECT_NEAR(m3.points.stress[p](2, 2), m1.points.stress[q](0, 0), 1e-9);
   }
 }
 

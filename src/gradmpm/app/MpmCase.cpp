@@ -76,7 +76,7 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   cf.declare_array("constraints", {"face", "min", "max", "fix", "displacement"});
   cf.declare_array("point_loads", {"min", "max", "force"});
   cf.declare_section("load_steps", {"count"}, true);
-  cf.declare_section("nonlinear_solver", {"tolerance", "max_iterations", "max_cuts"}, false);
+  cf.declare_section("nonlinear_solver", {"tolerance", "max_iterations", "max_cuts", "linear_solver"}, false);
   cf.declare_section("output", {"vtk_every", "track", "check", "plot"}, false);
   cf.reject_unknown();
 
@@ -236,6 +236,9 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   const long long cuts = cf.integer_or("nonlinear_solver.max_cuts", 6);
   cf.require(cuts >= 0 && cuts <= 30, "nonlinear_solver.max_cuts", "an integer from 0 to 30");
   newton.max_cuts = static_cast<int>(cuts);
+  const std::string linear = cf.string_or("nonlinear_solver.linear_solver", "cholmod");
+  cf.require(linear == "cholmod" || linear == "eigen-ldlt", "nonlinear_solver.linear_solver", "\"cholmod\" or \"eigen-ldlt\"");
+  newton.linear_solver = linear == "cholmod" ? SpdSolver::Backend::Cholmod : SpdSolver::Backend::EigenLDLT;
 
   const long long every = cf.integer_or("output.vtk_every", 1);
   cf.require(every >= 0, "output.vtk_every", "an integer >= 0 (0: no VTK output)");

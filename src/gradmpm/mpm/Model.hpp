@@ -8,6 +8,7 @@
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
+#include "gradmpm/solver/SpdSolver.hpp"
 
 namespace gradmpm {
 
@@ -36,6 +37,7 @@ struct NewtonSettings {
   double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
   int max_iterations = 25;
   int max_cuts = 6;         ///< halvings of a failing load increment before giving up
+  SpdSolver::Backend linear_solver = SpdSolver::Backend::Cholmod;
 };
 
 /// What one converged load step did; passed to the observer after every step.

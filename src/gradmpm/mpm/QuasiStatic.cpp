@@ -173,7 +173,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
   Vector du = Vector::Zero(step.dofs().num_dofs());
   const std::vector<double> zeros(step.constrained().size(), 0.0);
-  SpdSolver solver;
+  SpdSolver solver(settings.linear_solver);
   Vector f_int;
   SparseMatrix K;
   for (int it = 0;; ++it) {
