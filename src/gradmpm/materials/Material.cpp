@@ -37,8 +37,20 @@ Mat9 isotropic_elasticity(double young, double poisson) {
   return D;
 }
 
-LinearElastic::LinearElastic(double young, double poisson, double rho) : D_(isotropic_elasticity(young, poisson)) {
+Mat3 Material::elastic_stress(const Mat3& eps) const {
+  const double lambda = young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson));
+  const double mu = young / (2.0 * (1.0 + poisson));
+  return lambda * eps.trace() * Mat3::Identity() + 2.0 * mu * eps;
+}
+
+Mat3 Material::elastic_strain(const Mat3& s) const {
+  return ((1.0 + poisson) * s - poisson * s.trace() * Mat3::Identity()) / young;
+}
+
+LinearElastic::LinearElastic(double E, double nu, double rho) : D_(isotropic_elasticity(E, nu)) {
   density = rho;
+  young = E;
+  poisson = nu;
 }
 
 void LinearElastic::update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const {
@@ -48,11 +60,11 @@ void LinearElastic::update(const Mat3& dF, const Mat3& strain_n, MaterialRespons
   out.tangent = D_;
 }
 
-Hencky::Hencky(double young, double poisson, double rho)
-    : D_(isotropic_elasticity(young, poisson)),
-      lambda_(young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))),
-      mu_(young / (2.0 * (1.0 + poisson))) {
+Hencky::Hencky(double E, double nu, double rho)
+    : D_(isotropic_elasticity(E, nu)), lambda_(E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))), mu_(E / (2.0 * (1.0 + nu))) {
   density = rho;
+  young = E;
+  poisson = nu;
 }
 
 void Hencky::update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const {

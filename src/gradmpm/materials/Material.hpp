@@ -32,7 +32,16 @@ class Material {
   virtual void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const = 0;
   virtual std::string name() const = 0;
 
+  /// Isotropic elasticity D : eps (lambda tr eps I + 2 mu eps) and its inverse. The
+  /// gradient step uses them to pair smoothed strains with stresses (gradient
+  /// elasticity is a linear theory; with Hencky, eps is the logarithmic strain and the
+  /// stress the Kirchhoff stress).
+  Mat3 elastic_stress(const Mat3& eps) const;
+  Mat3 elastic_strain(const Mat3& stress) const;
+
   double density = 0.0;  ///< reference mass density rho_0
+  double young = 0.0;
+  double poisson = 0.0;
 };
 
 /// Isotropic elasticity tensor D_ijkl = lambda d_ij d_kl + mu (d_ik d_jl + d_il d_jk).

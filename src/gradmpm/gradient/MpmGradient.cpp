@@ -1,0 +1,238 @@
+#include "gradmpm/gradient/MpmGradient.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <memory>
+
+#include "gradmpm/gradient/Helmholtz.hpp"
+#include "gradmpm/points/Transfer.hpp"
+
+namespace gradmpm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The six independent components of a symmetric 3x3 tensor.
+constexpr int kSym[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
+
+/// Everything the smoothing needs on the points' current configuration: stencils,
+/// scalar equation numbering, pattern, assembler, and the factorised operators (one for
+/// natural boundaries, one per distinct Dirichlet set of u-RA).
+template <int dim>
+class SmoothingContext {
+ public:
+  SmoothingContext(const Model<dim>& m, double l)
+      : model_(m),
+        l_(l),
+        st_(evaluate_stencils(m.grid, m.points, m.basis)),
+        dofs_(st_, m.grid.num_nodes(), 1),
+        pattern_(build_pattern(st_, dofs_)),
+        assembler_(st_, m.points, dofs_) {}
+
+  /// Natural-boundary smoothing of a point field.
+  std::vector<double> smooth_natural(const std::vector<double>& c) {
+    if (!natural_) natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_);
+    return assembler_.interpolate(natural_->smooth_point_field(c));
+  }
+
+  /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
+  /// classical problem holds that component. The held values are the classical field's
+  /// own nodal values: with the grid reset after every step these are not stored, so
+  /// they are the L2 projection of the point field, M u = sum_p N c_p V_p (exact for
+  /// linear fields; the prescribed value itself in the FEM limit). Returns nodal values.
+  /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
+  /// classical problem holds that component. The held values are the classical field's
+  /// own nodal values: with the grid reset after every step these are not stored, so
+  /// they are the L2 projection of the point field, M u = sum_p N c_p V_p (exact for
+  /// linear fields; the prescribed value itself in the FEM limit). Returns nodal values.
+  Vector smooth_displacement(const std::vector<double>& c, int comp) {
+    std::vector<int> dofs;
+    for (const auto& k : model_.constraints)
+      if (k.component == comp && dofs_.active(k.node)) dofs.push_back(dofs_.dof(k.node, 0));
+    std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+    std::vector<double> values;
+    if (!dofs.empty()) {
+      if (!projector_) projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0);
+      const Vector projected = projector_->smooth_point_field(c);
+      for (int d : dofs) values.push_back(projected[d]);
+    }
+    auto& sm = by_constraints_[dofs];
+    if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs);
+    return sm->smooth_point_field(c, values);
+  }
+
+  /// Point values and gradients (at the points) of a nodal scalar field.
+  void interpolate(const Vector& nodal, std::vector<double>& value, std::vector<Vec<dim>>& gradient) const {
+    value.assign(st_.size(), 0.0);
+    gradient.assign(st_.size(), Vec<dim>::Zero());
+    for (std::size_t p = 0; p < st_.size(); ++p)
+      for (int a = 0; a < st_[p].count; ++a) {
+        const double v = nodal[dofs_.dof(st_[p].node[a], 0)];
+        value[p] += st_[p].N[a] * v;
+        gradient[p] += st_[p].dN[a] * v;
+      }
+  }
+
+ private:
+  const Model<dim>& model_;
+  double l_;
+  PointStencils<dim> st_;
+  DofMap dofs_;
+  SparseMatrix pattern_;
+  Assembler<dim> assembler_;
+  std::unique_ptr<HelmholtzSmoother<dim>> natural_, projector_;
+  std::map<std::vector<int>, std::unique_ptr<HelmholtzSmoother<dim>>> by_constraints_;
+};
+
+/// Jacobian that turns the material's stress measure into Cauchy stress.
+template <int dim>
+double stress_jacobian(const Model<dim>& m, int p) {
+  return m.materials[m.points.material[p]]->finite_strain() ? m.points.F[p].determinant() : 1.0;
+}
+
+/// Smooths a symmetric tensor field at the points (natural boundaries), all six components.
+template <int dim>
+std::vector<Mat3> smooth_tensor(SmoothingContext<dim>& ctx, const std::vector<Mat3>& t) {
+  std::vector<Mat3> out(t.size(), Mat3::Zero());
+  std::vector<double> c(t.size());
+  for (const auto& ij : kSym) {
+    for (std::size_t p = 0; p < t.size(); ++p) c[p] = t[p](ij[0], ij[1]);
+    const std::vector<double> g = ctx.smooth_natural(c);
+    for (std::size_t p = 0; p < t.size(); ++p) out[p](ij[0], ij[1]) = out[p](ij[1], ij[0]) = g[p];
+  }
+  return out;
+}
+
+/// u-RA: smoothed displacement (increment or total) at the points and its gradient in
+/// the points' current configuration. u-RA's strain is the small-strain measure
+/// sym grad u_g, as in the 1D foundation; on a configuration that has moved since the
+/// classical strain was measured the two measures differ by O(strain^2).
+template <int dim>
+void smooth_displacement(SmoothingContext<dim>& ctx, const std::vector<Vec<dim>>& u, std::vector<Vec<dim>>& ug,
+                         std::vector<Mat3>& grad) {
+  const std::size_t n = u.size();
+  ug.assign(n, Vec<dim>::Zero());
+  grad.assign(n, Mat3::Zero());
+  std::vector<double> c(n), value;
+  std::vector<Vec<dim>> gradient;
+  for (int i = 0; i < dim; ++i) {
+    for (std::size_t p = 0; p < n; ++p) c[p] = u[p][i];
+    ctx.interpolate(ctx.smooth_displacement(c, i), value, gradient);
+    for (std::size_t p = 0; p < n; ++p) {
+      ug[p][i] = value[p];
+      for (int j = 0; j < dim; ++j) grad[p](i, j) = gradient[p][j];
+    }
+  }
+}
+
+Mat3 sym(const Mat3& g) { return 0.5 * (g + g.transpose()); }
+
+/// Completes the enriched fields from the smoothed one: stress from strain (u-RA, e-RA)
+/// or strain from stress (s-RA), with the material's elasticity.
+template <int dim>
+void complete(const Model<dim>& m, GradientVariant v, EnrichedFields<dim>& f) {
+  for (int p = 0; p < m.points.size(); ++p) {
+    const Material& mat = *m.materials[m.points.material[p]];
+    const double J = stress_jacobian(m, p);
+    if (v == GradientVariant::S_RA)
+      f.strain[p] = mat.elastic_strain(J * f.stress[p]);
+    else
+      f.stress[p] = mat.elastic_stress(f.strain[p]) / J;
+  }
+}
+
+}  // namespace
+
+template <int dim>
+EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s) {
+  EnrichedFields<dim> f;
+  const int n = m.points.size();
+  f.resize(n);
+  std::vector<Vec<dim>> u(n);
+  for (int p = 0; p < n; ++p) u[p] = m.points.position[p] - m.points.original_position[p];
+  if (s.variant == GradientVariant::None) {
+    f.displacement = u;
+    f.strain = m.points.strain;
+    f.stress = m.points.stress;
+    return f;
+  }
+  SmoothingContext<dim> ctx(m, s.length_scale);
+  switch (s.variant) {
+    case GradientVariant::U_RA: {
+      std::vector<Mat3> grad;
+      smooth_displacement(ctx, u, f.displacement, grad);
+      for (int p = 0; p < n; ++p) f.strain[p] = sym(grad[p]);
+      break;
+    }
+    case GradientVariant::E_RA:
+      f.displacement = u;
+      f.strain = smooth_tensor(ctx, m.points.strain);
+      break;
+    case GradientVariant::S_RA:
+      f.displacement = u;
+      f.stress = smooth_tensor(ctx, m.points.stress);
+      break;
+    default:
+      break;
+  }
+  complete(m, s.variant, f);
+  return f;
+}
+
+template <int dim>
+GradientTracker<dim>::GradientTracker(const Model<dim>& m, const GradientSettings& s)
+    : settings_(s), prev_position_(m.points.position), prev_strain_(m.points.strain), prev_stress_(m.points.stress) {
+  fields_.resize(m.points.size());
+  fields_.strain = m.points.strain;
+  fields_.stress = m.points.stress;
+  for (int p = 0; p < m.points.size(); ++p) fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
+}
+
+template <int dim>
+void GradientTracker<dim>::after_step(const Model<dim>& m) {
+  const auto t0 = Clock::now();
+  const int n = m.points.size();
+  const GradientVariant v = settings_.variant;
+  if (v != GradientVariant::U_RA)  // e-RA, s-RA and none keep the classical displacement
+    for (int p = 0; p < n; ++p) fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
+  if (v == GradientVariant::None) {
+    fields_.strain = m.points.strain;
+    fields_.stress = m.points.stress;
+  } else {
+    SmoothingContext<dim> ctx(m, settings_.length_scale);
+    if (v == GradientVariant::U_RA) {
+      std::vector<Vec<dim>> du(n), dug;
+      std::vector<Mat3> grad;
+      for (int p = 0; p < n; ++p) du[p] = m.points.position[p] - prev_position_[p];
+      smooth_displacement(ctx, du, dug, grad);
+      for (int p = 0; p < n; ++p) {
+        fields_.displacement[p] += dug[p];
+        fields_.strain[p] += sym(grad[p]);
+      }
+    } else {
+      const bool strain = v == GradientVariant::E_RA;
+      std::vector<Mat3> d(n);
+      for (int p = 0; p < n; ++p)
+        d[p] = strain ? Mat3(m.points.strain[p] - prev_strain_[p]) : Mat3(m.points.stress[p] - prev_stress_[p]);
+      const std::vector<Mat3> g = smooth_tensor(ctx, d);
+      for (int p = 0; p < n; ++p) (strain ? fields_.strain[p] : fields_.stress[p]) += g[p];
+    }
+    complete(m, v, fields_);
+  }
+  prev_position_ = m.points.position;
+  prev_strain_ = m.points.strain;
+  prev_stress_ = m.points.stress;
+  seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+template EnrichedFields<1> smooth_total<1>(const Model<1>&, const GradientSettings&);
+template EnrichedFields<2> smooth_total<2>(const Model<2>&, const GradientSettings&);
+template EnrichedFields<3> smooth_total<3>(const Model<3>&, const GradientSettings&);
+template class GradientTracker<1>;
+template class GradientTracker<2>;
+template class GradientTracker<3>;
+
+}  // namespace gradmpm

@@ -1,0 +1,83 @@
+#pragma once
+// The Ru-Aifantis gradient step inside the MPM (issue 4; docs/gradient-mpm.md).
+//
+// The split is one-way: the classical MPM solve never sees the gradient fields. After a
+// load step (or at the end) a classical field c is smoothed by (M + l^2 L) g = f, with M
+// and L integrated by the material points at their current positions and volumes:
+//   u-RA  c = displacement, held where the classical problem holds it (at the classical
+//         field's nodal values, i.e. the L2 projection of the points' displacement)
+//   e-RA  c = strain components, natural boundary (grad g . n = 0 on the grid boundary;
+//         see below for the boundary of the material)
+//   s-RA  c = stress components, natural boundary
+// The operator is scalar: one factorisation serves every component (u-RA: one per
+// distinct set of constrained nodes, at most dim).
+//
+// Where the natural condition holds: M and L only have entries for nodes whose support
+// holds material, so the weak form integrates over the material alone, and its natural
+// condition grad g . n = 0 applies on the boundary of the material, wherever that lies in
+// the grid. No node outside the material enters the system.
+//
+// `fields`:
+//   points  after every load step the *increment* of the classical field is smoothed and
+//           accumulated at the points (the enriched fields are point state);
+//   grid    the *total* classical field is smoothed whenever it is reported, from the
+//           points' current values; nothing is carried between steps.
+// `apply`:  each_step (smooth after every load step) or end (once, after the last step).
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "gradmpm/gradient/Variant.hpp"
+#include "gradmpm/mpm/Model.hpp"
+
+namespace gradmpm {
+
+enum class GradientApply { EachStep, End };
+enum class GradientFields { Points, Grid };
+
+struct GradientSettings {
+  GradientVariant variant = GradientVariant::None;
+  double length_scale = 0.0;
+  GradientApply apply = GradientApply::EachStep;
+  GradientFields fields = GradientFields::Points;
+};
+
+/// The enriched fields at every material point.
+template <int dim>
+struct EnrichedFields {
+  std::vector<Vec<dim>> displacement;  ///< u_g (total)
+  std::vector<Mat3> strain;            ///< eps_g (small-strain measure)
+  std::vector<Mat3> stress;            ///< sigma_g (Cauchy)
+  void resize(int n) {
+    displacement.assign(n, Vec<dim>::Zero());
+    strain.assign(n, Mat3::Zero());
+    stress.assign(n, Mat3::Zero());
+  }
+};
+
+/// Smooths the total classical field of the model's current state (fields = grid, or
+/// apply = end). The displacement of a point is x_p - X_p; u-RA holds the classically
+/// constrained node components at the L2 projection of that field.
+template <int dim>
+EnrichedFields<dim> smooth_total(const Model<dim>& model, const GradientSettings& s);
+
+/// Carries the enriched fields at the points through the load steps (fields = points).
+template <int dim>
+class GradientTracker {
+ public:
+  GradientTracker(const Model<dim>& model, const GradientSettings& s);
+  /// After a converged step: smooths the step's increments of the classical field
+  /// (taken at the points) and accumulates them at the points.
+  void after_step(const Model<dim>& model);
+  const EnrichedFields<dim>& fields() const { return fields_; }
+  double seconds() const { return seconds_; }
+
+ private:
+  GradientSettings settings_;
+  EnrichedFields<dim> fields_;
+  std::vector<Vec<dim>> prev_position_;
+  std::vector<Mat3> prev_strain_, prev_stress_;
+  double seconds_ = 0.0;
+};
+
+}  // namespace gradmpm
