@@ -35,7 +35,7 @@ def main():
     fig, ax = plt.subplots(figsize=(7.0, 4.2), dpi=120)
     order = sorted(range(len(points["x"])), key=lambda i: points["x"][i])
     ax.step([points["x"][i] for i in order], [points["strain_classical"][i] for i in order],
-            where="mid", color="0.35", lw=1.6, label="classical (FEM, at points)")
+            where="mid", color="0.35", lw=1.6, label="classical (at points)")
     ax.plot(nodes["x"], nodes["strain_gradient"], color="tab:red", lw=2.0,
             label="gradient (at nodes)")
     ax.plot(nodes["x"], nodes["strain_exact"], color="k", lw=1.0, ls="--",

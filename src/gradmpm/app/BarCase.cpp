@@ -9,12 +9,18 @@
 #include "gradmpm/io/Csv.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
 #include "gradmpm/io/Python.hpp"
+#include "gradmpm/app/MpmCase.hpp"
 
 namespace gradmpm {
 
-BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output) {
+BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* mpm) {
   cf.declare_section("bar", {"length", "elements", "split", "young", "end_displacement", "points_per_element"}, true);
-  cf.declare_section("gradient", {"variant", "length_scale"}, true);
+  if (mpm) {
+    cf.declare_section("gradient", {"variant", "length_scale", "apply", "fields"}, true);
+    cf.declare_section("mpm", {"load_steps", "basis"}, true);
+  } else {
+    cf.declare_section("gradient", {"variant", "length_scale"}, true);
+  }
   cf.declare_section("output", {"plot"}, false);
   cf.declare_section("solver", {"linear"}, false);
   cf.reject_unknown();
@@ -58,6 +64,16 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output) {
   c.solver = linear == "cholmod" ? SpdSolver::Backend::Cholmod : SpdSolver::Backend::EigenLDLT;
 
   output.plot = cf.boolean_or("output.plot", true);
+  if (mpm) {
+    mpm->bar = c;
+    mpm->gradient = read_gradient_settings(cf);
+    const long long steps = cf.integer("mpm.load_steps");
+    cf.require(steps >= 1 && steps <= 1'000'000, "mpm.load_steps", "an integer from 1 to 1000000");
+    mpm->load_steps = static_cast<int>(steps);
+    const auto basis = parse_basis(cf.string_or("mpm.basis", "mpm"));
+    cf.require(basis.has_value(), "mpm.basis", "\"mpm\", \"gimp\" or \"cpgimp\"");
+    mpm->basis = *basis;
+  }
   return c;
 }
 
@@ -87,13 +103,14 @@ double bar_strain_error(const BarConfig& c, const BarResult& r) {
   double err = 0.0, scale = 0.0;
   if (smooth_strain(c.variant)) {
     for (std::size_t i = 0; i < r.x.size(); ++i) {
-      const double e = bar.gradient_strain(r.x[i], c.length_scale);
+      const double X = r.material_x.empty() ? r.x[i] : r.material_x[i];
+      const double e = bar.gradient_strain(X, c.length_scale);
       err = std::max(err, std::abs(r.strain_gradient[i] - e));
       scale = std::max(scale, std::abs(e));
     }
   } else {
     for (int p = 0; p < r.points.size(); ++p) {
-      const double e = bar.classical_strain(r.points.position[p][0]);
+      const double e = bar.classical_strain(r.points.original_position[p][0]);
       err = std::max(err, std::abs(r.point_strain_gradient[p] - e));
       scale = std::max(scale, std::abs(e));
     }
@@ -105,9 +122,10 @@ void write_bar_outputs(const BarConfig& c, const BarResult& r, StagedOutputs& ou
                        const BarOutputOptions& options) {
   const double h = c.length / c.elements;
   std::vector<double> u_exact, strain_exact;
-  for (double x : r.x) {
-    u_exact.push_back(exact_displacement(c, x));
-    strain_exact.push_back(exact_strain(c, x, 1e-9 * h));
+  for (std::size_t i = 0; i < r.x.size(); ++i) {
+    const double X = r.material_x.empty() ? r.x[i] : r.material_x[i];
+    u_exact.push_back(exact_displacement(c, X));
+    strain_exact.push_back(exact_strain(c, X, 1e-9 * h));
   }
   CsvTable nodes;
   nodes.add("x", r.x);

@@ -3,6 +3,7 @@
 // and the files it writes: bar.csv, bar_points.csv, bar.png.
 #include <filesystem>
 
+#include "gradmpm/app/BarMpm.hpp"
 #include "gradmpm/app/BarProblem.hpp"
 #include "gradmpm/io/CaseFile.hpp"
 #include "gradmpm/io/StagedOutputs.hpp"
@@ -13,8 +14,10 @@ struct BarOutputOptions {
   bool plot = true;
 };
 
-/// Reads and validates every key; throws InputError naming file and key.
-BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output);
+/// Reads and validates every key; throws InputError naming file and key. With an [mpm]
+/// section (the bar solved by the MPM), `mpm` receives its settings and [gradient] also
+/// takes apply and fields; without one, `mpm` must be null.
+BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* mpm = nullptr);
 
 /// Largest relative error of the gradient strain against its closed form
 /// (nodes for u-RA/e-RA, points for s-RA/none where the field is discontinuous).

@@ -51,6 +51,9 @@ struct BarResult {
 
   BarTimings timings;
   int dofs = 0;
+  /// MPM runs only: the original position X of the material now at each node (the
+  /// closed form is written in X); empty for the FEM bar, where X = x.
+  std::vector<double> material_x;
 };
 
 /// Solves the bar; throws SolverError on a failed factorisation.

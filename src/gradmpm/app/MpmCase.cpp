@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "gradmpm/analytic/Column.hpp"
 #include "gradmpm/core/Errors.hpp"
@@ -66,8 +67,32 @@ Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
 
 }  // namespace
 
+GradientSettings read_gradient_settings(CaseFile& cf) {
+  GradientSettings g;
+  const auto v = parse_gradient_variant(cf.string_or("gradient.variant", "none"));
+  cf.require(v.has_value(), "gradient.variant", "one of \"u-RA\", \"e-RA\", \"s-RA\", \"none\"");
+  g.variant = *v;
+  if (g.variant == GradientVariant::None) {
+    for (const char* k : {"gradient.length_scale", "gradient.apply", "gradient.fields"})
+      cf.require(!cf.has(k), k, "no such key when gradient.variant = \"none\" (it would have no effect)");
+    return g;
+  }
+  g.length_scale = cf.number("gradient.length_scale");
+  cf.require(g.length_scale >= 0.0, "gradient.length_scale", "a length scale l >= 0");
+  const std::string apply = cf.string_or("gradient.apply", "each_step");
+  cf.require(apply == "each_step" || apply == "end", "gradient.apply", "\"each_step\" or \"end\"");
+  g.apply = apply == "end" ? GradientApply::End : GradientApply::EachStep;
+  const std::string fields = cf.string_or("gradient.fields", g.apply == GradientApply::End ? "grid" : "points");
+  cf.require(fields == "points" || fields == "grid", "gradient.fields", "\"points\" or \"grid\"");
+  g.fields = fields == "grid" ? GradientFields::Grid : GradientFields::Points;
+  cf.require(!(g.apply == GradientApply::End && g.fields == GradientFields::Points), "gradient.fields",
+             "\"grid\" when gradient.apply = \"end\" (a single smoothing at the end has nothing for the points "
+             "to carry between steps)");
+  return g;
+}
+
 template <int dim>
-Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions& output) {
+Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions& output, GradientSettings* gradient) {
   cf.declare_section("grid", {"origin", "cell_size", "cells"}, true);
   cf.declare_section("basis", {"type"}, false);
   cf.declare_table_of_sections("materials", {"model", "young", "poisson", "density"});
@@ -78,7 +103,9 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   cf.declare_section("load_steps", {"count"}, true);
   cf.declare_section("nonlinear_solver", {"tolerance", "max_iterations", "max_cuts", "linear_solver"}, false);
   cf.declare_section("output", {"vtk_every", "track", "check", "plot"}, false);
+  cf.declare_section("gradient", {"variant", "length_scale", "apply", "fields"}, false);
   cf.reject_unknown();
+  if (gradient) *gradient = read_gradient_settings(cf);
 
   // --- grid
   const auto cells = cf.integer_list("grid.cells");
@@ -282,7 +309,7 @@ std::vector<double> xyz(const std::vector<Vec<dim>>& v) {
 }
 
 template <int dim>
-std::string points_vtu(const Model<dim>& m) {
+std::string points_vtu(const Model<dim>& m, const EnrichedFields<dim>* g = nullptr) {
   const auto& P = m.points;
   VtkField disp{"displacement", 3, {}}, stress{"stress", 9, {}}, strain{"elastic_strain", 9, {}},
       volume{"volume", 1, P.volume}, mass{"mass", 1, P.mass}, material{"material", 1, {}, true}, id{"id", 1, {}, true};
@@ -296,7 +323,50 @@ std::string points_vtu(const Model<dim>& m) {
     material.values.push_back(P.material[p]);
     id.values.push_back(p);
   }
-  return vtu_points(xyz<dim>(P.position), {disp, stress, strain, volume, mass, material, id});
+  std::vector<VtkField> fields = {disp, stress, strain, volume, mass, material, id};
+  if (g) {
+    VtkField gd{"gradient_displacement", 3, {}}, gs{"gradient_stress", 9, {}}, ge{"gradient_strain", 9, {}};
+    for (int p = 0; p < P.size(); ++p) {
+      for (int d = 0; d < 3; ++d) gd.values.push_back(d < dim ? g->displacement[p][d] : 0.0);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          gs.values.push_back(g->stress[p](i, j));
+          ge.values.push_back(g->strain[p](i, j));
+        }
+    }
+    fields.push_back(gd);
+    fields.push_back(ge);
+    fields.push_back(gs);
+  }
+  return vtu_points(xyz<dim>(P.position), fields);
+}
+
+/// points_gradient.csv: the classical and the enriched fields of every point.
+template <int dim>
+std::string points_gradient_csv(const Model<dim>& m, const EnrichedFields<dim>& g) {
+  const auto& P = m.points;
+  std::vector<std::vector<double>> col(28);
+  for (int p = 0; p < P.size(); ++p) {
+    col[0].push_back(p);
+    for (int d = 0; d < 3; ++d) {
+      col[1 + d].push_back(d < dim ? P.position[p][d] : 0.0);
+      col[4 + d].push_back(d < dim ? P.position[p][d] - P.original_position[p][d] : 0.0);
+      col[7 + d].push_back(d < dim ? g.displacement[p][d] : 0.0);
+    }
+    static constexpr int sym[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
+    for (int c = 0; c < 6; ++c) {
+      col[10 + c].push_back(P.strain[p](sym[c][0], sym[c][1]));
+      col[16 + c].push_back(g.strain[p](sym[c][0], sym[c][1]));
+      col[22 + c].push_back(g.stress[p](sym[c][0], sym[c][1]));
+    }
+  }
+  static const char* names[28] = {"id",     "x",      "y",      "z",      "ux",     "uy",     "uz",
+                                  "ux_g",   "uy_g",   "uz_g",   "exx",    "eyy",    "ezz",    "exy",
+                                  "eyz",    "exz",    "exx_g",  "eyy_g",  "ezz_g",  "exy_g",  "eyz_g",
+                                  "exz_g",  "sxx_g",  "syy_g",  "szz_g",  "sxy_g",  "syz_g",  "sxz_g"};
+  CsvTable t;
+  for (int c = 0; c < 28; ++c) t.add(names[c], col[c]);
+  return t.str();
 }
 
 template <int dim>
@@ -382,8 +452,14 @@ template <int dim>
 void run(CaseFile& cf, const fs::path& dir, bool quiet) {
   NewtonSettings newton;
   MpmOutputOptions output;
-  Model<dim> m = read_mpm_case<dim>(cf, newton, output);
+  GradientSettings gradient;
+  Model<dim> m = read_mpm_case<dim>(cf, newton, output, &gradient);
   StagedOutputs probe(dir);  // fails now, before solving, if the directory is unusable
+  const bool gradient_on = gradient.variant != GradientVariant::None;
+  std::optional<GradientTracker<dim>> tracker;
+  if (gradient_on && gradient.fields == GradientFields::Points) tracker.emplace(m, gradient);
+  std::optional<EnrichedFields<dim>> enriched;  // the latest enriched fields to report
+  double gradient_seconds = 0.0, classical_seconds = 0.0;
 
   std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
   std::string history = "step,load_factor,iteration,residual\n";
@@ -391,7 +467,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
   auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
     const std::string pf = fmt::format("points_{:04d}.vtu", step), gf = fmt::format("grid_{:04d}.vtu", step);
     StagedOutputs out(dir);
-    out.write_text(pf, points_vtu(m));
+    out.write_text(pf, points_vtu(m, enriched ? &*enriched : nullptr));
     out.write_text(gf, grid_vtu(m, info));
     pvd_points.emplace_back(lambda, pf);
     pvd_grid.emplace_back(lambda, gf);
@@ -420,8 +496,20 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       for (std::size_t k = 0; k < info.residuals.size(); ++k)
         fmt::format_to(std::back_inserter(history), "{},{},{},{}\n", info.step, info.load_factor, k, info.residuals[k]);
       track(info.step, info.load_factor);
+      classical_seconds += info.seconds;
       const bool last = info.load_factor >= 1.0;
-      if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || last)) write_vtk(info.step, info.load_factor, &info);
+      const bool vtk_now = output.vtk_every > 0 && (info.step % output.vtk_every == 0 || last);
+      // The gradient step (docs/gradient-mpm.md): accumulated at the points after every
+      // step, or recomputed from the total classical field when it is reported.
+      const auto tg = Clock::now();
+      if (tracker) {
+        tracker->after_step(m);
+        enriched = tracker->fields();
+      } else if (gradient_on && (last || (gradient.apply == GradientApply::EachStep && vtk_now))) {
+        enriched = smooth_total<dim>(m, gradient);
+      }
+      gradient_seconds += std::chrono::duration<double>(Clock::now() - tg).count();
+      if (vtk_now) write_vtk(info.step, info.load_factor, &info);
       StagedOutputs out(dir);
       out.write_text("newton_history.csv", history);
       if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
@@ -437,6 +525,13 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       }
     });
     write_now(dir, "points_final.csv", points_final_csv(m));
+    if (enriched) write_now(dir, "points_gradient.csv", points_gradient_csv(m, *enriched));
+    if (gradient_on && !quiet)
+      fmt::print("  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",
+                 to_string(gradient.variant), gradient.length_scale,
+                 gradient.apply == GradientApply::End ? "end" : "each_step",
+                 gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_seconds,
+                 100.0 * gradient_seconds / std::max(classical_seconds, 1e-12));
     if (!quiet)
       fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps, summary.total_iterations,
                  summary.cuts, std::chrono::duration<double>(Clock::now() - t0).count());
@@ -461,8 +556,8 @@ void run_mpm_case(CaseFile& cf, const fs::path& out_dir, bool quiet) {
   }
 }
 
-template Model<1> read_mpm_case<1>(CaseFile&, NewtonSettings&, MpmOutputOptions&);
-template Model<2> read_mpm_case<2>(CaseFile&, NewtonSettings&, MpmOutputOptions&);
-template Model<3> read_mpm_case<3>(CaseFile&, NewtonSettings&, MpmOutputOptions&);
+template Model<1> read_mpm_case<1>(CaseFile&, NewtonSettings&, MpmOutputOptions&, GradientSettings*);
+template Model<2> read_mpm_case<2>(CaseFile&, NewtonSettings&, MpmOutputOptions&, GradientSettings*);
+template Model<3> read_mpm_case<3>(CaseFile&, NewtonSettings&, MpmOutputOptions&, GradientSettings*);
 
 }  // namespace gradmpm

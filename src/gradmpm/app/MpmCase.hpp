@@ -4,6 +4,7 @@
 // the run that writes VTK, CSV and the terminal progress.
 #include <filesystem>
 
+#include "gradmpm/gradient/MpmGradient.hpp"
 #include "gradmpm/io/CaseFile.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 
@@ -16,12 +17,17 @@ struct MpmOutputOptions {
   bool plot = true;                ///< with check = "column": column.png
 };
 
+/// Reads the optional [gradient] section of an MPM case (variant, length_scale, apply,
+/// fields) and refuses combinations that make no sense.
+GradientSettings read_gradient_settings(CaseFile& cf);
+
 /// Spatial dimension of an MPM case (the length of grid.cells).
 int mpm_case_dimension(const CaseFile& cf);
 
 /// Reads and validates every key and builds the model; throws InputError naming the key.
 template <int dim>
-Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions& output);
+Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions& output,
+                         GradientSettings* gradient = nullptr);
 
 /// Reads, runs and writes the outputs of an MPM case in `out_dir`.
 void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet);
