@@ -111,3 +111,43 @@ TEST_F(MpmCli, FailedRunExitsWith1AndKeepsConvergedSteps) {
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "temporary left: " << e.path();
 }
+
+// Issue 4: the bar as MPM writes the foundation's bar.csv columns; the gradient options
+// that make no sense together are refused; an MPM case reports its enriched fields.
+TEST_F(MpmCli, BarAsMpmWritesTheFoundationColumns) {
+  ASSERT_EQ(run(example("bar_bimaterial_mpm.toml") + " --out " + dir.string() + " --set output.plot=false"), 0)
+      << slurp(dir / "stderr");
+  const std::string csv = slurp(dir / "bar.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "x,u_classical,u_gradient,strain_classical,strain_gradient,stress_classical,stress_gradient,u_exact,"
+            "strain_exact");
+  EXPECT_NE(slurp(dir / "stdout").find("gradient step"), std::string::npos);
+}
+
+TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {
+  const std::string bar = example("bar_bimaterial_mpm.toml") + " --out " + dir.string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {bar + " --set gradient.apply=end --set gradient.fields=points", "expected \"grid\" when gradient.apply = \"end\""},
+      {bar + " --set gradient.apply=sometimes", "gradient.apply (from --set): expected \"each_step\" or \"end\""},
+      {bar + " --set gradient.fields=nodes", "gradient.fields (from --set): expected \"points\" or \"grid\""},
+      {bar + " --set mpm.basis=spline", "mpm.basis (from --set): expected \"mpm\", \"gimp\" or \"cpgimp\""},
+      {example("bar_bimaterial.toml") + " --out " + dir.string() + " --set gradient.apply=end",
+       "gradient.apply (from --set): unknown key (valid keys in [gradient]: variant, length_scale)"},
+      {example("column_2d.toml") + " --out " + dir.string() + " --set gradient.length_scale=1",
+       "gradient.length_scale (from --set): expected no such key when gradient.variant = \"none\""},
+  };
+  for (const auto& [args, message] : cases) {
+    EXPECT_EQ(run(args), 2) << args;
+    EXPECT_NE(slurp(dir / "stderr").find(message), std::string::npos) << args << "\n" << slurp(dir / "stderr");
+  }
+}
+
+TEST_F(MpmCli, MpmCaseReportsEnrichedFields) {
+  ASSERT_EQ(run(example("column_2d.toml") + " --out " + dir.string() +
+                " --set output.plot=false --set gradient.variant=e-RA --set gradient.length_scale=1.0"),
+            0)
+      << slurp(dir / "stderr");
+  const std::string csv = slurp(dir / "points_gradient.csv");
+  EXPECT_EQ(csv.substr(0, csv.find(',', csv.find("ux_g"))), "id,x,y,z,ux,uy,uz,ux_g");
+  EXPECT_NE(slurp(dir / "points_0020.vtu").find("\"gradient_strain\""), std::string::npos);
+}
