@@ -5,11 +5,18 @@
 //     ((eps1 - eps2) * height), which is l for l << L in the 1D theory.
 //  R2 plate with a sharp V-notch in tension: the classical peak strain grows without
 //     bound under refinement (the notch-tip singularity), the e-RA peak converges.
+//  R3 (1D, large deformation) the paper's questions: on a bi-material Hencky column
+//     (31 % compression), e-RA applied once at the end to the total field (fields = grid)
+//     converges to a fine single-step reference; increments smoothed after every step and
+//     carried by the points (fields = points) converge to a different, path-dependent
+//     answer (docs/gradient-study.md, studies/gradient_study.cpp).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <iostream>
+#include <optional>
 
 #include "gradmpm/app/MpmCase.hpp"
 
@@ -155,4 +162,100 @@ TEST(MpmGradient2D, NotchPeakStrainDivergesClassicallyAndConvergesWithERA) {
   const double d1 = std::abs(gradient[1] - gradient[0]), d2 = std::abs(gradient[2] - gradient[1]);
   EXPECT_LT(d2, 0.6 * d1);
   EXPECT_LT(d2 / gradient[2], 0.05);
+}
+
+namespace {
+std::string bimaterial_column(int cells, int steps, const char* apply, const char* fields) {
+  const double h = 10.0 / cells;
+  return fmt::format(R"(
+[grid]
+origin = [{0}]
+cell_size = {1}
+cells = [{2}]
+[basis]
+type = "cpgimp"
+[materials.soft]
+model = "hencky"
+young = 80.0
+density = 1.0
+[materials.stiff]
+model = "hencky"
+young = 400.0
+density = 1.0
+[[bodies]]
+material = "soft"
+min = [0.0]
+max = [5.0]
+[[bodies]]
+material = "stiff"
+min = [5.0]
+max = [10.0]
+[loads]
+gravity = [-10.0]
+[[constraints]]
+min = [{0}]
+max = [0.0]
+fix = ["x"]
+[load_steps]
+count = {3}
+[nonlinear_solver]
+max_cuts = 12
+[gradient]
+variant = "e-RA"
+length_scale = 1.0
+apply = "{4}"
+fields = "{5}"
+)",
+                     -h, h, cells + 1, steps, apply, fields);
+}
+
+/// Final e-RA strain (vertical) against original height, sorted.
+std::vector<std::pair<double, double>> column_profile(const std::string& text) {
+  CaseFile cf = CaseFile::parse(text, "column.toml", {});
+  NewtonSettings newton;
+  MpmOutputOptions out;
+  GradientSettings g;
+  Model<1> m = read_mpm_case<1>(cf, newton, out, &g);
+  std::optional<GradientTracker<1>> tracker;
+  if (g.fields == GradientFields::Points) tracker.emplace(m, g);
+  run_quasi_static<1>(m, newton, [&](const Model<1>& mm, const StepInfo&) {
+    if (tracker) tracker->after_step(mm);
+  });
+  const EnrichedFields<1> f = tracker ? tracker->fields() : smooth_total<1>(m, g);
+  std::vector<std::pair<double, double>> prof;
+  for (int p = 0; p < m.points.size(); ++p) prof.emplace_back(m.points.original_position[p][0], f.strain[p](0, 0));
+  std::sort(prof.begin(), prof.end());
+  return prof;
+}
+
+double max_difference(const std::vector<std::pair<double, double>>& a, const std::vector<std::pair<double, double>>& ref) {
+  double d = 0;
+  for (const auto& [Y, e] : a) {
+    auto it = std::lower_bound(ref.begin(), ref.end(), std::make_pair(Y, -1e300));
+    if (it == ref.begin()) ++it;
+    if (it == ref.end()) --it;
+    const auto& [Y1, e1] = *(it - 1);
+    const auto& [Y2, e2] = *it;
+    const double t = std::clamp((Y - Y1) / (Y2 - Y1), 0.0, 1.0);
+    d = std::max(d, std::abs(e - ((1 - t) * e1 + t * e2)));
+  }
+  return d;
+}
+}  // namespace
+
+TEST(MpmGradient2D, SmoothingTheFinalStateConvergesAndCarryingIncrementsDoesNot) {
+  const auto ref = column_profile(bimaterial_column(256, 1, "end", "grid"));
+  double peak = 0;
+  for (const auto& [Y, e] : ref) peak = std::max(peak, std::abs(e));
+  std::vector<double> end_err, step_err;
+  for (int cells : {16, 64}) {
+    end_err.push_back(max_difference(column_profile(bimaterial_column(cells, 20, "end", "grid")), ref) / peak);
+    step_err.push_back(max_difference(column_profile(bimaterial_column(cells, 20, "each_step", "points")), ref) / peak);
+    std::cout << "cells " << cells << ": max |eps_g - reference| / peak: end+grid " << end_err.back()
+              << ", each_step+points " << step_err.back() << "\n";
+  }
+  EXPECT_LT(end_err[1], 0.25 * end_err[0]) << "end+grid converges to the reference";
+  EXPECT_LT(end_err[1], 2e-3);
+  EXPECT_GT(step_err[1], 0.03) << "carrying smoothed increments is path-dependent";
+  EXPECT_NEAR(step_err[1], step_err[0], 0.2 * step_err[0]) << "and that difference does not shrink with h";
 }
