@@ -499,7 +499,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       classical_seconds += info.seconds;
       const bool last = info.load_factor >= 1.0;
       const bool vtk_now = output.vtk_every > 0 && (info.step % output.vtk_every == 0 || last);
-      // The gradient step (docs/gradient-mpm.md): accumulated at the points after every
+      // The gradient step (docs/gradient-study.md): accumulated at the points after every
       // step, or recomputed from the total classical field when it is reported.
       const auto tg = Clock::now();
       if (tracker) {
