@@ -5,7 +5,7 @@
 //   /usr/bin/python3 scripts/plot_gradient_study.py OUT_DIR docs/figures
 //
 // Case: a bi-material Hencky column under self-weight (1D; H0 = 10, lower half E = 80,
-// upper half E = 400, rho0 g = 10, nu = 0; 31 % compression of the soft half), e-RA and
+// upper half E = 400, rho0 g = 10, nu = 0; up to 48 % compression in the soft half), e-RA and
 // u-RA with l = 1. Reference: a very fine grid (1024 cells) solved in ONE load step and
 // smoothed once at the end. Compared: 20 load steps on 16 ... 128 cells with
 //   apply = each_step, fields = points  (increments smoothed and carried by the points)

@@ -14,6 +14,7 @@
 #include <numbers>
 
 #include "BarTestUtil.hpp"
+#include "MpmTestUtil.hpp"
 #include "gradmpm/gradient/MpmGradient.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
@@ -156,5 +157,34 @@ TEST(MpmGradient, BarMatchesTheClosedForm) {
                   << std::abs(got - exact) / exact << "\n";
         EXPECT_LT(std::abs(got - exact) / exact, 1e-4) << to_string(v) << " x = " << x;
       }
+    }
+}
+
+// Requirement: the gradient step works in 3D. A 3D column on rollers is the 1D column,
+// and its smoothed fields (natural boundaries on the lateral faces) must be too.
+TEST(MpmGradient, ThreeDimensionalColumnSmoothsLikeThe1DColumn) {
+  for (GradientVariant v : {GradientVariant::E_RA, GradientVariant::S_RA, GradientVariant::U_RA})
+    for (bool each_step : {false, true}) {
+      const GradientSettings gs{v, 1.0, each_step ? GradientApply::EachStep : GradientApply::End,
+                                each_step ? GradientFields::Points : GradientFields::Grid};
+      Model<1> m1 = make_column<1>(8, BasisKind::CPGIMP);
+      Model<3> m3 = make_column<3>(8, BasisKind::CPGIMP);
+      GradientTracker<1> t1(m1, gs);
+      GradientTracker<3> t3(m3, gs);
+      NewtonSettings s;
+      s.load_steps = 5;
+      run_quasi_static<1>(m1, s, [&](const Model<1>& m, const StepInfo&) { if (each_step) t1.after_step(m); });
+      run_quasi_static<3>(m3, s, [&](const Model<3>& m, const StepInfo&) { if (each_step) t3.after_step(m); });
+      const auto f1 = each_step ? t1.fields() : smooth_total<1>(m1, gs);
+      const auto f3 = each_step ? t3.fields() : smooth_total<3>(m3, gs);
+      double dev = 0, scale = 0;
+      for (int p = 0; p < m3.points.size(); ++p) {
+        const int q = p / 8 * 2 + (p % 8) / 4;  // 2x2x2 points per cell: z-layers pair with the 1D points
+        dev = std::max(dev, std::abs(f3.strain[p](2, 2) - f1.strain[q](0, 0)));
+        dev = std::max(dev, std::abs(f3.displacement[p][2] - f1.displacement[q][0]));
+        scale = std::max(scale, std::abs(f1.strain[q](0, 0)));
+      }
+      EXPECT_LT(dev / scale, 1e-9) << to_string(v) << (each_step ? " each step" : " at end");
+      EXPECT_GT(std::abs(f1.strain[0](0, 0) - m1.points.strain[0](0, 0)), 1e-3 * scale) << "the smoothing did something";
     }
 }

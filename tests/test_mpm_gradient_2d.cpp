@@ -6,7 +6,7 @@
 //  R2 plate with a sharp V-notch in tension: the classical peak strain grows without
 //     bound under refinement (the notch-tip singularity), the e-RA peak converges.
 //  R3 (1D, large deformation) the paper's questions: on a bi-material Hencky column
-//     (31 % compression), e-RA applied once at the end to the total field (fields = grid)
+//     (up to 48 % compression), e-RA applied once at the end to the total field (fields = grid)
 //     converges to a fine single-step reference; increments smoothed after every step and
 //     carried by the points (fields = points) converge to a different, path-dependent
 //     answer (docs/gradient-study.md, studies/gradient_study.cpp).
