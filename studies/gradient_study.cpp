@@ -84,20 +84,14 @@ Run solve(const std::string& text) {
   MpmOutputOptions out;
   GradientSettings g;
   Model<dim> m = read_mpm_case<dim>(cf, newton, out, &g);
-  std::optional<GradientTracker<dim>> tracker;
-  if (g.fields == GradientFields::Points) tracker.emplace(m, g);
+  GradientStep<dim> gradient(m, g);
   Run r;
   run_quasi_static<dim>(m, newton, [&](const Model<dim>& mm, const StepInfo& info) {
     r.classical_s += info.seconds;
-    if (tracker) {
-      const auto t0 = Clock::now();
-      tracker->after_step(mm);
-      r.gradient_s += std::chrono::duration<double>(Clock::now() - t0).count();
-    }
+    gradient.after_step(mm, false, info.load_factor >= 1.0);
   });
-  const auto t0 = Clock::now();
-  const EnrichedFields<dim> f = tracker ? tracker->fields() : smooth_total<dim>(m, g);
-  if (!tracker) r.gradient_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  r.gradient_s = gradient.seconds();
+  const EnrichedFields<dim>& f = *gradient.fields();
   std::vector<int> order(m.points.size());
   for (int p = 0; p < m.points.size(); ++p) order[p] = p;
   std::sort(order.begin(), order.end(), [&](int a, int b) {
@@ -174,18 +168,13 @@ int main(int argc, char** argv) {
     MpmOutputOptions out;
     GradientSettings g;
     Model<2> m = read_mpm_case<2>(cf, newton, out, &g);
-    std::optional<GradientTracker<2>> tracker;
-    if (g.fields == GradientFields::Points) tracker.emplace(m, g);
-    double cls = 0, grad = 0;
+    GradientStep<2> gradient(m, g);
+    double cls = 0;
     run_quasi_static<2>(m, newton, [&](const Model<2>& mm, const StepInfo& info) {
       cls += info.seconds;
-      const auto t0 = Clock::now();
-      if (tracker) tracker->after_step(mm);
-      grad += std::chrono::duration<double>(Clock::now() - t0).count();
+      gradient.after_step(mm, false, info.load_factor >= 1.0);
     });
-    const auto t0 = Clock::now();
-    if (!tracker) smooth_total<2>(m, g);
-    grad += std::chrono::duration<double>(Clock::now() - t0).count();
+    const double grad = gradient.seconds();
     fmt::print("footing 2D, e-RA, {}+{}: classical {:.3f} s, gradient {:.3f} s, ratio {:.1f} %\n", apply, fields, cls,
                grad, 100 * grad / cls);
     cost << fmt::format("footing_2d,e-RA,{}+{},{},{},{},{}\n", apply, fields, m.points.size(), cls, grad, grad / cls);

@@ -216,12 +216,11 @@ std::vector<std::pair<double, double>> column_profile(const std::string& text) {
   MpmOutputOptions out;
   GradientSettings g;
   Model<1> m = read_mpm_case<1>(cf, newton, out, &g);
-  std::optional<GradientTracker<1>> tracker;
-  if (g.fields == GradientFields::Points) tracker.emplace(m, g);
-  run_quasi_static<1>(m, newton, [&](const Model<1>& mm, const StepInfo&) {
-    if (tracker) tracker->after_step(mm);
+  GradientStep<1> gradient(m, g);
+  run_quasi_static<1>(m, newton, [&](const Model<1>& mm, const StepInfo& info) {
+    gradient.after_step(mm, false, info.load_factor >= 1.0);
   });
-  const EnrichedFields<1> f = tracker ? tracker->fields() : smooth_total<1>(m, g);
+  const EnrichedFields<1>& f = *gradient.fields();
   std::vector<std::pair<double, double>> prof;
   for (int p = 0; p < m.points.size(); ++p) prof.emplace_back(m.points.original_position[p][0], f.strain[p](0, 0));
   std::sort(prof.begin(), prof.end());

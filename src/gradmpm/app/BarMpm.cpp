@@ -1,6 +1,5 @@
 #include "gradmpm/app/BarMpm.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -31,22 +30,18 @@ BarResult solve_bar_mpm(const BarMpmConfig& cfg, double* gradient_seconds, doubl
   m.constraints = {{0, 0, 0.0}};
   for (int n = c.elements; n <= c.elements + extra; ++n) m.constraints.push_back({n, 0, c.end_displacement});
 
-  std::optional<GradientTracker<1>> tracker;
-  if (cfg.gradient.fields == GradientFields::Points) tracker.emplace(m, cfg.gradient);
+  GradientStep<1> gradient(m, cfg.gradient);
   NewtonSettings s;
   s.load_steps = cfg.load_steps;
   s.linear_solver = c.solver;
-  double t_grad = 0, t_cls = 0;
+  double t_cls = 0;
   run_quasi_static<1>(m, s, [&](const Model<1>& mm, const StepInfo& info) {
     t_cls += info.seconds;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (tracker) tracker->after_step(mm);
-    t_grad += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    gradient.after_step(mm, false, info.load_factor >= 1.0);
   });
-  const auto t0 = std::chrono::steady_clock::now();
-  const EnrichedFields<1> g = tracker ? tracker->fields() : smooth_total<1>(m, cfg.gradient);
-  t_grad += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (gradient_seconds) *gradient_seconds = t_grad;
+  // variant "none": the classical fields stand for the gradient ones
+  const EnrichedFields<1> g = gradient.fields() ? *gradient.fields() : smooth_total<1>(m, cfg.gradient);
+  if (gradient_seconds) *gradient_seconds = gradient.seconds();
   if (classical_seconds) *classical_seconds = t_cls;
 
   // Point fields, then nodal values by recovery on the nodes the material covers.

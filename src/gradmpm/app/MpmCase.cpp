@@ -455,11 +455,8 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
   GradientSettings gradient;
   Model<dim> m = read_mpm_case<dim>(cf, newton, output, &gradient);
   StagedOutputs probe(dir);  // fails now, before solving, if the directory is unusable
-  const bool gradient_on = gradient.variant != GradientVariant::None;
-  std::optional<GradientTracker<dim>> tracker;
-  if (gradient_on && gradient.fields == GradientFields::Points) tracker.emplace(m, gradient);
-  std::optional<EnrichedFields<dim>> enriched;  // the latest enriched fields to report
-  double gradient_seconds = 0.0, classical_seconds = 0.0;
+  GradientStep<dim> gradient_step(m, gradient);
+  double classical_seconds = 0.0;
 
   std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
   std::string history = "step,load_factor,iteration,residual\n";
@@ -467,7 +464,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
   auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
     const std::string pf = fmt::format("points_{:04d}.vtu", step), gf = fmt::format("grid_{:04d}.vtu", step);
     StagedOutputs out(dir);
-    out.write_text(pf, points_vtu(m, enriched ? &*enriched : nullptr));
+    out.write_text(pf, points_vtu(m, gradient_step.fields()));
     out.write_text(gf, grid_vtu(m, info));
     pvd_points.emplace_back(lambda, pf);
     pvd_grid.emplace_back(lambda, gf);
@@ -499,16 +496,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       classical_seconds += info.seconds;
       const bool last = info.load_factor >= 1.0;
       const bool vtk_now = output.vtk_every > 0 && (info.step % output.vtk_every == 0 || last);
-      // The gradient step (docs/gradient-study.md): accumulated at the points after every
-      // step, or recomputed from the total classical field when it is reported.
-      const auto tg = Clock::now();
-      if (tracker) {
-        tracker->after_step(m);
-        enriched = tracker->fields();
-      } else if (gradient_on && (last || (gradient.apply == GradientApply::EachStep && vtk_now))) {
-        enriched = smooth_total<dim>(m, gradient);
-      }
-      gradient_seconds += std::chrono::duration<double>(Clock::now() - tg).count();
+      gradient_step.after_step(m, vtk_now, last);  // docs/gradient-study.md
       if (vtk_now) write_vtk(info.step, info.load_factor, &info);
       StagedOutputs out(dir);
       out.write_text("newton_history.csv", history);
@@ -525,13 +513,14 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       }
     });
     write_now(dir, "points_final.csv", points_final_csv(m));
-    if (enriched) write_now(dir, "points_gradient.csv", points_gradient_csv(m, *enriched));
-    if (gradient_on && !quiet)
+    if (const auto* enriched = gradient_step.fields())
+      write_now(dir, "points_gradient.csv", points_gradient_csv(m, *enriched));
+    if (gradient_step.enabled() && !quiet)
       fmt::print("  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",
                  to_string(gradient.variant), gradient.length_scale,
                  gradient.apply == GradientApply::End ? "end" : "each_step",
-                 gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_seconds,
-                 100.0 * gradient_seconds / std::max(classical_seconds, 1e-12));
+                 gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step.seconds(),
+                 100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
     if (!quiet)
       fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps, summary.total_iterations,
                  summary.cuts, std::chrono::duration<double>(Clock::now() - t0).count());

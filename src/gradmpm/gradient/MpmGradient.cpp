@@ -228,11 +228,37 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
   seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+template <int dim>
+GradientStep<dim>::GradientStep(const Model<dim>& m, const GradientSettings& s) : settings_(s) {
+  if (enabled() && s.fields == GradientFields::Points) tracker_.emplace(m, s);
+}
+
+template <int dim>
+void GradientStep<dim>::after_step(const Model<dim>& m, bool report, bool last) {
+  if (!enabled()) return;
+  if (tracker_) {
+    tracker_->after_step(m);
+  } else if (last || (settings_.apply == GradientApply::EachStep && report)) {
+    const auto t0 = Clock::now();
+    latest_ = smooth_total<dim>(m, settings_);
+    seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+}
+
+template <int dim>
+const EnrichedFields<dim>* GradientStep<dim>::fields() const {
+  if (tracker_) return &tracker_->fields();
+  return latest_ ? &*latest_ : nullptr;
+}
+
 template EnrichedFields<1> smooth_total<1>(const Model<1>&, const GradientSettings&);
 template EnrichedFields<2> smooth_total<2>(const Model<2>&, const GradientSettings&);
 template EnrichedFields<3> smooth_total<3>(const Model<3>&, const GradientSettings&);
 template class GradientTracker<1>;
 template class GradientTracker<2>;
 template class GradientTracker<3>;
+template class GradientStep<1>;
+template class GradientStep<2>;
+template class GradientStep<3>;
 
 }  // namespace gradmpm

@@ -80,4 +80,26 @@ class GradientTracker {
   double seconds_ = 0.0;
 };
 
+/// The gradient step of a run, as the settings ask: call after_step() after every
+/// converged load step; it accumulates (fields = points) or recomputes the total field
+/// when it is reported (fields = grid: every reported step with apply = each_step, the
+/// last step with apply = end). Times itself.
+template <int dim>
+class GradientStep {
+ public:
+  GradientStep(const Model<dim>& model, const GradientSettings& s);
+  bool enabled() const { return settings_.variant != GradientVariant::None; }
+  /// `report`: the caller writes output for this step; `last`: the final step.
+  void after_step(const Model<dim>& model, bool report, bool last);
+  /// The latest enriched fields, or null when none have been computed yet.
+  const EnrichedFields<dim>* fields() const;
+  double seconds() const { return seconds_ + (tracker_ ? tracker_->seconds() : 0.0); }
+
+ private:
+  GradientSettings settings_;
+  std::optional<GradientTracker<dim>> tracker_;
+  std::optional<EnrichedFields<dim>> latest_;
+  double seconds_ = 0.0;
+};
+
 }  // namespace gradmpm
