@@ -40,6 +40,27 @@ struct NewtonSettings {
   SpdSolver::Backend linear_solver = SpdSolver::Backend::Cholmod;
 };
 
+/// Seconds spent in each phase of a load step (summed over its Newton iterations).
+struct PhaseTimes {
+  double pattern = 0;   ///< shape functions, active nodes, sparsity pattern, f_ext
+  double assembly = 0;  ///< point loop: material updates, f_int and tangent scatter-add
+  double analysis = 0;  ///< symbolic factorisation (once per load step)
+  double factor = 0;    ///< numeric factorisations
+  double solve = 0;     ///< triangular solves
+  double update = 0;    ///< mapping the increment to the points, updating their state
+  int iterations = 0;   ///< Newton iterations (linear solves)
+  PhaseTimes& operator+=(const PhaseTimes& o) {
+    pattern += o.pattern;
+    assembly += o.assembly;
+    analysis += o.analysis;
+    factor += o.factor;
+    solve += o.solve;
+    update += o.update;
+    iterations += o.iterations;
+    return *this;
+  }
+};
+
 /// What one converged load step did; passed to the observer after every step.
 struct StepInfo {
   int step = 0;                  ///< 1, 2, ... (converged steps)
@@ -51,6 +72,9 @@ struct StepInfo {
   Vector grid_displacement;      ///< the step's displacement increment at every grid node (dim per node)
   Vector grid_mass;              ///< nodal mass sum_p N_i m_p (eq. 1)
   double seconds = 0.0;
+  PhaseTimes phases;             ///< of the converged attempt
+  int dofs = 0;                  ///< equations of the step
+  long nonzeros = 0;             ///< entries of the tangent
 };
 
 }  // namespace gradmpm

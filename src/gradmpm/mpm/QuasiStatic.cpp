@@ -16,6 +16,9 @@ namespace gradmpm {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
 /// A Newton failure inside one load step (the caller cuts the increment).
 struct StepFailure {
   std::string reason;
@@ -73,17 +76,31 @@ class LoadStep {
   const SparseMatrix& pattern() const { return pattern_; }
 
   /// Point loop: material update for the increment du, internal force and tangent.
+  /// Points are independent: the loop runs on OpenMP threads and the shared sums
+  /// (f_int, K) are accumulated with atomic adds, so the result equals the serial one up
+  /// to the order of floating-point additions.
   void linearise(const Vector& du, Vector& f_int, SparseMatrix& K) {
     const auto& pts = model_.points;
+    const int np = pts.size();
     f_int = Vector::Zero(dofs_.num_dofs());
     K = pattern_;
-    grads_.resize(pts.size());
-    weights_.resize(pts.size());
-    for (int p = 0; p < pts.size(); ++p) {
+    grads_.resize(np);
+    weights_.resize(np);
+    int inverted = -1;
+    double inverted_det = 0.0;
+#pragma omp parallel for schedule(static)
+    for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
       const Mat3 dF = Mat3::Identity() + increment_gradient(s, dofs_, du);
       const double detdF = dF.determinant();
-      if (!(detdF > 0.0)) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", p, detdF)};
+      if (!(detdF > 0.0)) {
+#pragma omp critical
+        {
+          inverted = p;
+          inverted_det = detdF;
+        }
+        continue;
+      }
       const Material& mat = *model_.materials[pts.material[p]];
       MaterialResponse& r = response_[p];
       mat.update(dF, pts.strain[p], r);
@@ -106,9 +123,12 @@ class LoadStep {
         for (int i = 0; i < dim; ++i) {
           double f = 0.0;
           for (int j = 0; j < dim; ++j) f += r.stress(i, j) * G[a][j];
-          f_int[dofs_.dof(s.node[a], i)] += w * f;
+          const int row = dofs_.dof(s.node[a], i);
+#pragma omp atomic
+          f_int[row] += w * f;
         }
     }
+    if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
     assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
       const auto& G = grads_[p];
       const Mat9& A = response_[p].tangent;
@@ -167,7 +187,8 @@ class LoadStep {
 
 /// Newton-Raphson for one load step; returns the converged increment or throws StepFailure.
 template <int dim>
-Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<double>& residuals, int& indefinite) {
+Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<double>& residuals, int& indefinite,
+              PhaseTimes& times) {
   // The first iterate linearises about the converged state (du = 0) and brings the
   // prescribed increments in through the right-hand side: d_c = du_c, K_ff d_f = r_f - K_fc du_c.
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
@@ -177,7 +198,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   Vector f_int;
   SparseMatrix K;
   for (int it = 0;; ++it) {
+    auto t0 = Clock::now();
     step.linearise(du, f_int, K);
+    times.assembly += since(t0);
     Vector r = step.f_ext() - f_int;
     const double scale = std::max(step.f_ext().norm(), f_int.norm());
     for (int c : step.constrained()) r[c] = 0.0;
@@ -198,16 +221,27 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
     bc.apply_to_matrix(K, step.constrained());
     bc.apply_to_rhs(r, it == 0 ? step.increments() : zeros);
     try {
-      if (it == 0) solver.analyze(K);  // the pattern is fixed within the load step
+      if (it == 0) {  // the pattern is fixed within the load step
+        t0 = Clock::now();
+        solver.analyze(K);
+        times.analysis += since(t0);
+      }
       try {
+        t0 = Clock::now();
         solver.factorize(K);
+        times.factor += since(t0);
+        t0 = Clock::now();
         du += solver.solve(r);
+        times.solve += since(t0);
       } catch (const SolverError&) {
         // Not positive definite at this iterate (a distorted trial state, or a genuine
         // instability): the symmetric indefinite system still has a Newton step.
+        t0 = Clock::now();
         du += SpdSolver::solve_general(K, r);
+        times.factor += since(t0);
         ++indefinite;
       }
+      ++times.iterations;
     } catch (const SolverError& e) {
       throw StepFailure{e.what()};
     }
@@ -218,7 +252,6 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
 
 template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, const StepObserver<dim>& observer) {
-  using Clock = std::chrono::steady_clock;
   RunSummary summary;
   const double nominal = 1.0 / settings.load_steps;
   double lambda = 0.0, dlambda = nominal;
@@ -228,15 +261,22 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
     const auto t0 = Clock::now();
     while (true) {
       info.residuals.clear();
+      info.phases = PhaseTimes{};
       try {
         std::unique_ptr<LoadStep<dim>> step;
+        auto t0 = Clock::now();
         try {
           step = std::make_unique<LoadStep<dim>>(model, lambda + dlambda, dlambda);
         } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
           throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
         }
-        const Vector du = newton(*step, settings, info.residuals, info.indefinite_solves);
+        info.phases.pattern = since(t0);
+        info.dofs = step->dofs().num_dofs();
+        info.nonzeros = step->pattern().nonZeros();
+        const Vector du = newton(*step, settings, info.residuals, info.indefinite_solves, info.phases);
+        t0 = Clock::now();
         step->commit(model, du);
+        info.phases.update = since(t0);
         info.grid_displacement = Vector::Zero(model.grid.num_nodes() * dim);
         for (int i = 0; i < dim; ++i) {
           const Vector gi = step->dofs().to_grid(du, i);
@@ -259,7 +299,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
     info.step = ++summary.steps;
     info.load_factor = lambda;
     info.increment = dlambda;
-    info.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    info.seconds = since(t0);
     summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
     if (observer) observer(model, info);
     if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut

@@ -26,21 +26,31 @@ class Assembler {
   /// (local index a*ncomp + comp). A must hold the pattern of build_pattern().
   template <class Kernel>
   void add_matrix(SparseMatrix& A, Kernel&& kernel) const {
+    // Points run on OpenMP threads, each with its own local matrix; the scatter-add into
+    // the shared values uses atomic adds (the result equals the serial one up to the
+    // order of floating-point additions).
     const int nc = dofs_.ncomp();
-    LocalMatrix Ke;
     double* values = A.valuePtr();
-    for (int p = 0; p < points_.size(); ++p) {
-      const Stencil<dim>& s = st_[p];
-      Ke.setZero(s.count * nc, s.count * nc);
-      kernel(p, s, Ke);
-      for (int b = 0; b < s.count; ++b)
-        for (int cb = 0; cb < nc; ++cb) {
-          const int col = dofs_.dof(s.node[b], cb);
-          for (int a = 0; a < s.count; ++a)
-            for (int ca = 0; ca < nc; ++ca)
-              values[pattern_offset(A, dofs_.dof(s.node[a], ca), col)] +=
-                  Ke(a * nc + ca, b * nc + cb);
-        }
+    const int np = points_.size();
+#pragma omp parallel
+    {
+      LocalMatrix Ke;
+#pragma omp for schedule(static)
+      for (int p = 0; p < np; ++p) {
+        const Stencil<dim>& s = st_[p];
+        Ke.setZero(s.count * nc, s.count * nc);
+        kernel(p, s, Ke);
+        for (int b = 0; b < s.count; ++b)
+          for (int cb = 0; cb < nc; ++cb) {
+            const int col = dofs_.dof(s.node[b], cb);
+            for (int a = 0; a < s.count; ++a)
+              for (int ca = 0; ca < nc; ++ca) {
+                const int k = pattern_offset(A, dofs_.dof(s.node[a], ca), col);
+#pragma omp atomic
+                values[k] += Ke(a * nc + ca, b * nc + cb);
+              }
+          }
+      }
     }
   }
 

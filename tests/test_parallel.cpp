@@ -1,0 +1,62 @@
+// Requirement (performance issue): multithreaded assembly gives the same operators and
+// the same MPM solution as the single-threaded one, within round-off (atomic adds sum
+// in a different order, so bit-for-bit equality is not promised).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <Eigen/Dense>
+
+#include "MpmTestUtil.hpp"
+#include "gradmpm/solver/Assembler.hpp"
+
+using namespace gradmpm;
+using namespace gradmpm::test;
+
+namespace {
+struct Threads {  // sets the OpenMP thread count for a scope
+  int saved;
+  explicit Threads(int n) : saved(omp_get_max_threads()) { omp_set_num_threads(n); }
+  ~Threads() { omp_set_num_threads(saved); }
+};
+}  // namespace
+
+TEST(Parallel, AssemblyEqualsSerialAssembly) {
+  const int n = 48;
+  const Grid<2> grid(Vec<2>(0.0, 0.0), Vec<2>(1.0 / n, 1.0 / n), {n, n});
+  MaterialPoints<2> pts;
+  add_regular_points<2>(grid, {0, 0}, {n, n}, 3, [](const Vec<2>&) { return true; }, 0, 1.0, pts);
+  for (int p = 0; p < pts.size(); ++p) pts.position[p] += Vec<2>(0.1 / n * std::sin(p), 0.1 / n * std::cos(3.0 * p));
+  const auto st = evaluate_stencils(grid, pts, BasisKind::MPM);  // perturbed points stay h/6 inside
+  const DofMap dofs(st, grid.num_nodes(), 1);
+  const SparseMatrix pattern = build_pattern(st, dofs);
+  const Assembler<2> as(st, pts, dofs);
+  SparseMatrix serial = pattern, threaded = pattern;
+  {
+    Threads t(1);
+    as.add_helmholtz(serial, 0.01);
+  }
+  {
+    Threads t(4);
+    as.add_helmholtz(threaded, 0.01);
+  }
+  const Eigen::Map<const Vector> a(serial.valuePtr(), serial.nonZeros()), b(threaded.valuePtr(), threaded.nonZeros());
+  EXPECT_LE((a - b).lpNorm<Eigen::Infinity>(), 1e-14 * a.lpNorm<Eigen::Infinity>());
+}
+
+TEST(Parallel, MpmSolutionEqualsSerialSolution) {
+  Model<2> serial = make_column<2>(16, BasisKind::CPGIMP), threaded = make_column<2>(16, BasisKind::CPGIMP);
+  NewtonSettings s;
+  s.load_steps = 4;
+  {
+    Threads t(1);
+    run_quasi_static<2>(serial, s);
+  }
+  {
+    Threads t(4);
+    run_quasi_static<2>(threaded, s);
+  }
+  for (int p = 0; p < serial.points.size(); ++p) {
+    EXPECT_LT((serial.points.position[p] - threaded.points.position[p]).norm(), 1e-12);
+    EXPECT_LT((serial.points.stress[p] - threaded.points.stress[p]).norm(), 1e-9);
+  }
+}
