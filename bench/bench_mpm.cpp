@@ -1,0 +1,207 @@
+// bench_mpm: what one Newton iteration of the implicit MPM costs, phase by phase, as the
+// problem grows (docs/performance.md). Never part of the tests.
+//
+//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE]
+//
+// Cases (built from case-file text, so they are the code paths users run):
+//   column_2d  a square block under self-weight (Hencky, nu = 0.3), base fixed, sides on
+//              rollers, cpGIMP, 2 points per cell and direction; n x n cells
+//   column_3d  the same in 3D; n x n x n cells
+//   footing_2d examples/footing_2d.toml refined by a factor (uGIMP)
+// For each size one load step of the case is solved to convergence and its phases are
+// reported per Newton iteration: pattern, update and analysis (done once per step) are
+// divided by the step's iterations; assembly, factorisation and solve are per iteration.
+// gradient_s is one e-RA smoothing of the strain (6 components) after the step.
+// peak_mib is the process's peak resident memory so far (sizes grow, so it is this size's).
+// ratio = (pattern + assembly + update) / (analysis + factor + solve), the share of
+// everything that is not the sparse direct solver.
+#include <fmt/format.h>
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "gradmpm/app/MpmCase.hpp"
+
+using namespace gradmpm;
+
+namespace {
+
+std::string column_2d(int n) {
+  const double h = 10.0 / n;
+  return fmt::format(R"(
+[grid]
+origin = [{0}, {0}]
+cell_size = {1}
+cells = [{2}, {2}]
+[basis]
+type = "cpgimp"
+[materials.soil]
+model = "hencky"
+young = 1000.0
+poisson = 0.3
+density = 1.0
+[[bodies]]
+material = "soil"
+min = [0.0, 0.0]
+max = [10.0, 10.0]
+[loads]
+gravity = [0.0, -10.0]
+[[constraints]]
+min = [{0}, {0}]
+max = [20.0, 0.0]
+fix = ["x", "y"]
+[[constraints]]
+min = [{0}, {0}]
+max = [0.0, 20.0]
+fix = ["x"]
+[[constraints]]
+min = [10.0, {0}]
+max = [20.0, 20.0]
+fix = ["x"]
+[load_steps]
+count = 10
+[output]
+vtk_every = 0
+)",
+                     -h, h, n + 2);
+}
+
+std::string column_3d(int n) {
+  const double h = 10.0 / n;
+  return fmt::format(R"(
+[grid]
+origin = [{0}, {0}, {0}]
+cell_size = {1}
+cells = [{2}, {2}, {2}]
+[basis]
+type = "cpgimp"
+[materials.soil]
+model = "hencky"
+young = 1000.0
+poisson = 0.3
+density = 1.0
+[[bodies]]
+material = "soil"
+min = [0.0, 0.0, 0.0]
+max = [10.0, 10.0, 10.0]
+[loads]
+gravity = [0.0, 0.0, -10.0]
+[[constraints]]
+min = [{0}, {0}, {0}]
+max = [20.0, 20.0, 0.0]
+fix = ["x", "y", "z"]
+[[constraints]]
+min = [{0}, {0}, {0}]
+max = [0.0, 20.0, 20.0]
+fix = ["x"]
+[[constraints]]
+min = [10.0, {0}, {0}]
+max = [20.0, 20.0, 20.0]
+fix = ["x"]
+[[constraints]]
+min = [{0}, {0}, {0}]
+max = [20.0, 0.0, 20.0]
+fix = ["y"]
+[[constraints]]
+min = [{0}, 10.0, {0}]
+max = [20.0, 20.0, 20.0]
+fix = ["y"]
+[load_steps]
+count = 10
+[output]
+vtk_every = 0
+)",
+                     -h, h, n + 2);
+}
+
+double peak_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // kB on Linux
+}
+
+struct StopAfterFirstStep {};
+
+template <int dim>
+void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads) {
+  NewtonSettings newton;
+  MpmOutputOptions out;
+  GradientSettings g;
+  Model<dim> m = read_mpm_case<dim>(cf, newton, out, &g);
+  StepInfo first;
+  try {
+    run_quasi_static<dim>(m, newton, [&](const Model<dim>&, const StepInfo& info) {
+      first = info;
+      throw StopAfterFirstStep{};
+    });
+  } catch (const StopAfterFirstStep&) {
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid});
+  const double gradient_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const PhaseTimes& t = first.phases;
+  const double its = std::max(1, t.iterations);
+  const double pattern = t.pattern / its, assembly = t.assembly / its, analysis = t.analysis / its,
+               factor = t.factor / its, solve = t.solve / its, update = t.update / its;
+  const double ratio = (pattern + assembly + update) / (analysis + factor + solve);
+  const std::string row =
+      fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f}", name, dim, first.dofs,
+                  m.points.size(), first.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
+                  gradient_s, peak_mib());
+  csv << row << "\n";
+  csv.flush();
+  fmt::print("{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
+             "factor {:.4f}  solve {:.4f}  update {:.4f}  gradient {:.4f}  peak {:.0f} MiB  ratio {:.2f}\n",
+             name, first.dofs, m.points.size(), first.nonzeros, t.iterations, pattern, assembly, analysis, factor, solve,
+             update, gradient_s, peak_mib(), ratio);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  int threads = omp_get_max_threads();
+  std::string csv_path = "bench-results.csv";
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
+    else {
+      fmt::print(stderr, "usage: bench_mpm [--quick] [--threads N] [--csv FILE]\n");
+      return 2;
+    }
+  }
+  omp_set_num_threads(threads);
+  std::ofstream csv(csv_path);
+  if (!csv) {
+    fmt::print(stderr, "bench_mpm: cannot write {}\n", csv_path);
+    return 2;
+  }
+  csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_mib\n";
+  fmt::print("bench_mpm: {} thread(s), {} sweep; seconds per Newton iteration\n", threads, quick ? "quick" : "full");
+
+  const std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
+  for (int n : n2) bench<2>("column_2d", CaseFile::parse(column_2d(n), "column_2d"), csv, threads);
+  const std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24, 34};
+  for (int n : n3) bench<3>("column_3d", CaseFile::parse(column_3d(n), "column_3d"), csv, threads);
+  const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";
+  const std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8};
+  for (int r : refine) {
+    const double h = 0.125 / r;
+    bench<2>("footing_2d",
+             CaseFile::load(footing, {fmt::format("grid.origin=[{},{}]", -h, -2 * h), fmt::format("grid.cell_size={}", h),
+                                      fmt::format("grid.cells=[{},{}]", 35 * r, 20 * r),
+                                      fmt::format("constraints[0].min=[{},{}]", -h, -2 * h),
+                                      fmt::format("constraints[1].min=[{},{}]", -h, -2 * h),
+                                      fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
+                                      fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0"}),
+             csv, threads);
+  }
+  fmt::print("wrote {}\n", csv_path);
+}
