@@ -106,6 +106,17 @@ TEST(MpmColumn, ThreeDimensionalColumnWithRollersIsThe1DColumn) {
   }
 }
 
+TEST(MpmColumn, IterativeSolverGivesTheDirectSolution) {
+  Model<2> direct = make_column<2>(16, BasisKind::CPGIMP), iterative = make_column<2>(16, BasisKind::CPGIMP);
+  NewtonSettings s;
+  s.load_steps = 5;
+  run_quasi_static<2>(direct, s);
+  s.linear_solver = SpdSolver::Backend::PCG;
+  run_quasi_static<2>(iterative, s);
+  for (int p = 0; p < direct.points.size(); ++p)
+    EXPECT_LT((direct.points.position[p] - iterative.points.position[p]).norm(), 1e-8);
+}
+
 TEST(MpmColumn, FinalHeightAndMassConservation) {
   for (BasisKind b : {BasisKind::MPM, BasisKind::UGIMP, BasisKind::CPGIMP}) {
     Model<2> m = make_column<2>(16, b);

@@ -105,11 +105,49 @@ TEST(SpdSolver, CholmodAndEigenAgreeAndAnalysisIsReused) {
   EXPECT_LT((chol.solve(b) - x1 / 3.0).norm(), 1e-12 * x1.norm());
 }
 
+TEST(SpdSolver, PreconditionedCgSolvesAndReportsFailure) {
+  // 2D five-point Laplacian (+ a small shift): incomplete Cholesky is not exact here.
+  const int m = 30, n = m * m;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int k = i * m + j;
+      t.emplace_back(k, k, 4.0 + 1e-3);
+      if (i + 1 < m) {
+        t.emplace_back(k, k + m, -1.0);
+        t.emplace_back(k + m, k, -1.0);
+      }
+      if (j + 1 < m) {
+        t.emplace_back(k, k + 1, -1.0);
+        t.emplace_back(k + 1, k, -1.0);
+      }
+    }
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  const Vector b = Vector::LinSpaced(n, -1.0, 1.0);
+  SpdSolver chol, pcg(SpdSolver::Backend::PCG);
+  chol.compute(A);
+  pcg.compute(A);
+  const Vector x = chol.solve(b);
+  EXPECT_LT((pcg.solve(b) - x).norm(), 1e-8 * x.norm());
+  SpdSolver limited(SpdSolver::Backend::PCG);
+  limited.pcg_max_iterations = 2;
+  limited.pcg_tolerance = 1e-14;
+  limited.compute(A);
+  try {
+    limited.solve(b);
+    FAIL() << "expected SolverError";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("preconditioned CG did not converge"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("after 2 iterations"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SpdSolver, IndefiniteMatrixIsReported) {
   SparseMatrix A(2, 2);
   A.insert(0, 0) = 1.0;
   A.insert(1, 1) = -1.0;
-  for (auto backend : {SpdSolver::Backend::Cholmod, SpdSolver::Backend::EigenLDLT}) {
+  for (auto backend : {SpdSolver::Backend::Cholmod, SpdSolver::Backend::EigenLDLT}) {  // PCG: see above
     SpdSolver s(backend);
     EXPECT_THROW(s.compute(A), SolverError) << SpdSolver::name(backend);
   }

@@ -264,8 +264,11 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   cf.require(cuts >= 0 && cuts <= 30, "nonlinear_solver.max_cuts", "an integer from 0 to 30");
   newton.max_cuts = static_cast<int>(cuts);
   const std::string linear = cf.string_or("nonlinear_solver.linear_solver", "cholmod");
-  cf.require(linear == "cholmod" || linear == "eigen-ldlt", "nonlinear_solver.linear_solver", "\"cholmod\" or \"eigen-ldlt\"");
-  newton.linear_solver = linear == "cholmod" ? SpdSolver::Backend::Cholmod : SpdSolver::Backend::EigenLDLT;
+  cf.require(linear == "cholmod" || linear == "eigen-ldlt" || linear == "pcg", "nonlinear_solver.linear_solver",
+             "\"cholmod\", \"eigen-ldlt\" or \"pcg\"");
+  newton.linear_solver = linear == "cholmod"      ? SpdSolver::Backend::Cholmod
+                         : linear == "eigen-ldlt" ? SpdSolver::Backend::EigenLDLT
+                                                  : SpdSolver::Backend::PCG;
 
   const long long every = cf.integer_or("output.vtk_every", 1);
   cf.require(every >= 0, "output.vtk_every", "an integer >= 0 (0: no VTK output)");

@@ -2,7 +2,10 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
+#include <cmath>
+#include <fmt/format.h>
 
 #include "gradmpm/core/Errors.hpp"
 
@@ -11,6 +14,7 @@ namespace gradmpm {
 struct SpdSolver::Impl {
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> cholmod;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> pcg;
 };
 
 SpdSolver::SpdSolver(Backend backend) : backend_(backend), impl_(std::make_unique<Impl>()) {
@@ -24,14 +28,16 @@ SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
 
 std::string_view SpdSolver::name(Backend b) {
-  return b == Backend::Cholmod ? "cholmod" : "eigen-ldlt";
+  return b == Backend::Cholmod ? "cholmod" : (b == Backend::EigenLDLT ? "eigen-ldlt" : "pcg");
 }
 
 void SpdSolver::analyze(const SparseMatrix& A) {
   if (backend_ == Backend::Cholmod)
     impl_->cholmod.analyzePattern(A);
-  else
+  else if (backend_ == Backend::EigenLDLT)
     impl_->ldlt.analyzePattern(A);
+  else
+    impl_->pcg.analyzePattern(A);
   analyzed_ = true;
   factorized_ = false;
 }
@@ -42,6 +48,13 @@ void SpdSolver::factorize(const SparseMatrix& A) {
   if (backend_ == Backend::Cholmod) {
     impl_->cholmod.factorize(A);
     info = impl_->cholmod.info();
+  } else if (backend_ == Backend::PCG) {
+    impl_->pcg.factorize(A);  // the incomplete Cholesky preconditioner
+    info = impl_->pcg.info();
+    const int n = static_cast<int>(A.rows());
+    impl_->pcg.setTolerance(pcg_tolerance);
+    impl_->pcg.setMaxIterations(pcg_max_iterations > 0 ? pcg_max_iterations
+                                                       : std::max(200, static_cast<int>(20 * std::sqrt(double(n)))));
   } else {
     impl_->ldlt.factorize(A);
     info = impl_->ldlt.info();
@@ -63,6 +76,15 @@ void SpdSolver::compute(const SparseMatrix& A) {
 
 Vector SpdSolver::solve(const Vector& b) const {
   if (!factorized_) throw SolverError("SpdSolver::solve called before factorize");
+  if (backend_ == Backend::PCG) {
+    Vector x = impl_->pcg.solve(b);
+    if (impl_->pcg.info() != Eigen::Success || !x.allFinite())
+      throw SolverError(fmt::format("preconditioned CG did not converge: relative residual {:.2e} after {} iterations "
+                                    "(tolerance {:.1e}, limit {})",
+                                    impl_->pcg.error(), impl_->pcg.iterations(), impl_->pcg.tolerance(),
+                                    impl_->pcg.maxIterations()));
+    return x;
+  }
   Vector x = backend_ == Backend::Cholmod ? Vector(impl_->cholmod.solve(b))
                                           : Vector(impl_->ldlt.solve(b));
   if (!x.allFinite()) throw SolverError("sparse solve produced non-finite values");

@@ -1,8 +1,9 @@
 #pragma once
 // Sparse symmetric positive definite solves. CHOLMOD (supernodal Cholesky) by
-// default; Eigen's SimplicialLDLT as fallback. The symbolic analysis is kept and
-// reused for every factorisation of a matrix with the same pattern, and one
-// factorisation serves any number of right-hand sides.
+// default; Eigen's SimplicialLDLT as fallback; conjugate gradients preconditioned by an
+// incomplete Cholesky factorisation for problems too large to factorise. The symbolic
+// analysis is kept and reused for every factorisation of a matrix with the same pattern,
+// and one factorisation serves any number of right-hand sides.
 #include <memory>
 #include <string_view>
 
@@ -12,7 +13,7 @@ namespace gradmpm {
 
 class SpdSolver {
  public:
-  enum class Backend { Cholmod, EigenLDLT };
+  enum class Backend { Cholmod, EigenLDLT, PCG };
 
   explicit SpdSolver(Backend backend = Backend::Cholmod);
   ~SpdSolver();
@@ -25,8 +26,13 @@ class SpdSolver {
   void factorize(const SparseMatrix& A);
   /// analyze (if not yet done) + factorize.
   void compute(const SparseMatrix& A);
-  /// x = A^{-1} b with the current factorisation.
+  /// x = A^{-1} b with the current factorisation. PCG: relative residual below
+  /// pcg_tolerance within pcg_max_iterations (default max(200, 20 sqrt(n))), else
+  /// SolverError naming the iterations and the residual reached.
   Vector solve(const Vector& b) const;
+
+  double pcg_tolerance = 1e-12;
+  int pcg_max_iterations = 0;  ///< 0: scaled to the problem, max(200, 20 sqrt(n))
 
   Backend backend() const { return backend_; }
 
