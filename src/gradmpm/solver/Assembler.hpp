@@ -43,12 +43,15 @@ class Assembler {
         for (int b = 0; b < s.count; ++b)
           for (int cb = 0; cb < nc; ++cb) {
             const int col = dofs_.dof(s.node[b], cb);
-            for (int a = 0; a < s.count; ++a)
+            for (int a = 0; a < s.count; ++a) {
+              // The components of a node are consecutive rows of every column: one
+              // search per node, not per component.
+              const int k0 = pattern_offset(A, dofs_.dof(s.node[a], 0), col);
               for (int ca = 0; ca < nc; ++ca) {
-                const int k = pattern_offset(A, dofs_.dof(s.node[a], ca), col);
 #pragma omp atomic
-                values[k] += Ke(a * nc + ca, b * nc + cb);
+                values[k0 + ca] += Ke(a * nc + ca, b * nc + cb);
               }
+            }
           }
       }
     }
