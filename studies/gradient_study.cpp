@@ -4,7 +4,7 @@
 //   build/studies/gradient_study OUT_DIR
 //   /usr/bin/python3 scripts/plot_gradient_study.py OUT_DIR docs/figures
 //
-// Case: a bi-material Hencky column under self-weight (1D; H0 = 10, lower half E = 80,
+// Case: examples/column_bimaterial_1d.toml, a bi-material Hencky column under self-weight (1D; H0 = 10, lower half E = 80,
 // upper half E = 400, rho0 g = 10, nu = 0; up to 48 % compression in the soft half), e-RA and
 // u-RA with l = 1. Reference: a very fine grid (1024 cells) solved in ONE load step and
 // smoothed once at the end. Compared: 20 load steps on 16 ... 128 cells with
@@ -28,48 +28,15 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::string column(int cells, int steps, const std::string& variant, const std::string& apply, const std::string& fields) {
+/// examples/column_bimaterial_1d.toml with `cells` cells over the height, `steps` load
+/// steps and the given gradient choices.
+CaseFile column(int cells, int steps, const std::string& variant, const std::string& apply, const std::string& fields) {
   const double h = 10.0 / cells;
-  return fmt::format(R"(
-[grid]
-origin = [{0}]
-cell_size = {1}
-cells = [{2}]
-[basis]
-type = "cpgimp"
-[materials.soft]
-model = "hencky"
-young = 80.0
-density = 1.0
-[materials.stiff]
-model = "hencky"
-young = 400.0
-density = 1.0
-[[bodies]]
-material = "soft"
-min = [0.0]
-max = [5.0]
-[[bodies]]
-material = "stiff"
-min = [5.0]
-max = [10.0]
-[loads]
-gravity = [-10.0]
-[[constraints]]
-min = [{0}]
-max = [0.0]
-fix = ["x"]
-[load_steps]
-count = {3}
-[nonlinear_solver]
-max_cuts = 12
-[gradient]
-variant = "{4}"
-length_scale = 1.0
-apply = "{5}"
-fields = "{6}"
-)",
-                     -h, h, cells + 1, steps, variant, apply, fields);
+  return CaseFile::load(fs::path(GRADMPM_SOURCE_DIR) / "examples" / "column_bimaterial_1d.toml",
+                        {fmt::format("grid.origin=[{}]", -h), fmt::format("grid.cell_size={}", h),
+                         fmt::format("grid.cells=[{}]", cells + 1), fmt::format("constraints[0].min=[{}]", -h),
+                         fmt::format("load_steps.count={}", steps), "gradient.variant=" + variant,
+                         "gradient.apply=" + apply, "gradient.fields=" + fields, "output.vtk_every=0"});
 }
 
 struct Run {
@@ -78,8 +45,7 @@ struct Run {
 };
 
 template <int dim>
-Run solve(const std::string& text) {
-  CaseFile cf = CaseFile::parse(text, "study", {});
+Run solve(CaseFile cf) {
   NewtonSettings newton;
   MpmOutputOptions out;
   GradientSettings g;

@@ -165,53 +165,18 @@ TEST(MpmGradient2D, NotchPeakStrainDivergesClassicallyAndConvergesWithERA) {
 }
 
 namespace {
-std::string bimaterial_column(int cells, int steps, const char* apply, const char* fields) {
+/// examples/column_bimaterial_1d.toml (e-RA, l = 1) with `cells` cells and `steps` steps.
+CaseFile bimaterial_column(int cells, int steps, const char* apply, const char* fields) {
   const double h = 10.0 / cells;
-  return fmt::format(R"(
-[grid]
-origin = [{0}]
-cell_size = {1}
-cells = [{2}]
-[basis]
-type = "cpgimp"
-[materials.soft]
-model = "hencky"
-young = 80.0
-density = 1.0
-[materials.stiff]
-model = "hencky"
-young = 400.0
-density = 1.0
-[[bodies]]
-material = "soft"
-min = [0.0]
-max = [5.0]
-[[bodies]]
-material = "stiff"
-min = [5.0]
-max = [10.0]
-[loads]
-gravity = [-10.0]
-[[constraints]]
-min = [{0}]
-max = [0.0]
-fix = ["x"]
-[load_steps]
-count = {3}
-[nonlinear_solver]
-max_cuts = 12
-[gradient]
-variant = "e-RA"
-length_scale = 1.0
-apply = "{4}"
-fields = "{5}"
-)",
-                     -h, h, cells + 1, steps, apply, fields);
+  return CaseFile::load(std::string(GRADMPM_SOURCE_DIR) + "/examples/column_bimaterial_1d.toml",
+                        {fmt::format("grid.origin=[{}]", -h), fmt::format("grid.cell_size={}", h),
+                         fmt::format("grid.cells=[{}]", cells + 1), fmt::format("constraints[0].min=[{}]", -h),
+                         fmt::format("load_steps.count={}", steps), std::string("gradient.apply=") + apply,
+                         std::string("gradient.fields=") + fields, "output.vtk_every=0"});
 }
 
 /// Final e-RA strain (vertical) against original height, sorted.
-std::vector<std::pair<double, double>> column_profile(const std::string& text) {
-  CaseFile cf = CaseFile::parse(text, "column.toml", {});
+std::vector<std::pair<double, double>> column_profile(CaseFile cf) {
   NewtonSettings newton;
   MpmOutputOptions out;
   GradientSettings g;
