@@ -90,7 +90,7 @@ BarResult solve_bar(const BarConfig& c) {
   const PointStencils<1> st = evaluate_stencils<1, LinearBasis<1>>(grid, r.points);
   const DofMap dofs(st, grid.num_nodes(), 1);
   const SparseMatrix pattern = build_pattern(st, dofs);
-  const Assembler<1> assembler(st, r.points, dofs);
+  const Assembler<1> assembler(st, r.points, dofs, &grid);
   r.dofs = dofs.num_dofs();
 
   // Classical problem: K_ab = sum_p dN_a E_p dN_b V_p, u(0) = 0, u(L) = delta.

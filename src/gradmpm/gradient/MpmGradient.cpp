@@ -29,7 +29,7 @@ class SmoothingContext {
         st_(evaluate_stencils(m.grid, m.points, m.basis)),
         dofs_(st_, m.grid.num_nodes(), 1),
         pattern_(build_pattern(st_, dofs_)),
-        assembler_(st_, m.points, dofs_) {}
+        assembler_(st_, m.points, dofs_, &m.grid) {}
 
   /// Natural-boundary smoothing of a point field.
   std::vector<double> smooth_natural(const std::vector<double>& c) {

@@ -49,7 +49,7 @@ class LoadStep {
         st_(evaluate_stencils(m.grid, m.points, m.basis)),
         dofs_(st_, m.grid.num_nodes(), dim),
         pattern_(build_pattern(st_, dofs_)),
-        assembler_(st_, m.points, dofs_),
+        assembler_(st_, m.points, dofs_, &m.grid),
         response_(m.points.size()) {
     // Prescribed increments of active constrained nodes (last definition wins).
     std::map<int, double> prescribed;
@@ -76,9 +76,9 @@ class LoadStep {
   const SparseMatrix& pattern() const { return pattern_; }
 
   /// Point loop: material update for the increment du, internal force and tangent.
-  /// Points are independent: the loop runs on OpenMP threads and the shared sums
-  /// (f_int, K) are accumulated with atomic adds, so the result equals the serial one up
-  /// to the order of floating-point additions.
+  /// The material updates are independent and run on OpenMP threads; the shared sums
+  /// (f_int, K) are scattered by buckets of points with disjoint nodes
+  /// (Assembler::for_each_point_disjoint), so the result does not depend on the threads.
   void linearise(const Vector& du, Vector& f_int, SparseMatrix& K) {
     const auto& pts = model_.points;
     const int np = pts.size();
@@ -118,17 +118,20 @@ class LoadStep {
         for (int a = 0; a < s.count; ++a) G[a] = s.dN[a];
         weights_[p] = pts.volume[p];
       }
-      const double w = weights_[p];
+    }
+    if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
+    // f_int,i = sum_p tau_p grad N_i w_p: scattered by disjoint buckets, no atomics.
+    assembler_.for_each_point_disjoint([&](int p) {
+      const Stencil<dim>& s = st_[p];
+      const auto& G = grads_[p];
+      const Mat3& stress = response_[p].stress;
       for (int a = 0; a < s.count; ++a)
         for (int i = 0; i < dim; ++i) {
           double f = 0.0;
-          for (int j = 0; j < dim; ++j) f += r.stress(i, j) * G[a][j];
-          const int row = dofs_.dof(s.node[a], i);
-#pragma omp atomic
-          f_int[row] += w * f;
+          for (int j = 0; j < dim; ++j) f += stress(i, j) * G[a][j];
+          f_int[dofs_.dof(s.node[a], i)] += weights_[p] * f;
         }
-    }
-    if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
+    });
     assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
       const auto& G = grads_[p];
       const Mat9& A = response_[p].tangent;

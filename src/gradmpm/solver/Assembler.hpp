@@ -3,6 +3,9 @@
 // its matrix analogue). The same point quadrature integrates the stiffness, the
 // mass matrix M and the Laplacian L of the gradient step, and right-hand sides.
 #include <Eigen/Dense>
+#include <array>
+#include <limits>
+#include <map>
 
 #include "gradmpm/solver/SparsePattern.hpp"
 
@@ -16,45 +19,59 @@ class Assembler {
   using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor,
                                     max_local, max_local>;
 
+  /// With the grid, points are coloured for race-free threaded assembly (below); without
+  /// it the scatter-add is serial.
   Assembler(const PointStencils<dim>& stencils, const MaterialPoints<dim>& points,
-            const DofMap& dofs)
-      : st_(stencils), points_(points), dofs_(dofs) {}
+            const DofMap& dofs, const Grid<dim>* grid = nullptr)
+      : st_(stencils), points_(points), dofs_(dofs) {
+    if (grid) colour(*grid);
+  }
 
   const DofMap& dofs() const { return dofs_; }
+
+  /// Calls f(p) for every point; concurrent calls (OpenMP threads) are given points whose
+  /// stencils share no node, so f may add into nodal arrays without atomics. Points are
+  /// grouped in buckets by the lowest node of their stencil; a stencil spans at most 3
+  /// nodes per direction, so buckets whose anchors differ by 3 or more in some direction
+  /// touch disjoint nodes: 3^dim colours, the buckets of one colour run in parallel, the
+  /// points of a bucket in order. The additions into each node happen in the same order
+  /// whatever the thread count, so results are identical bit for bit.
+  template <class F>
+  void for_each_point_disjoint(F&& f) const {
+    if (colours_.empty()) {
+      for (int p = 0; p < points_.size(); ++p) f(p);
+      return;
+    }
+    for (const auto& buckets : colours_) {
+      const int nb = static_cast<int>(buckets.size());
+#pragma omp parallel for schedule(dynamic, 16)
+      for (int b = 0; b < nb; ++b)
+        for (int p : buckets[b]) f(p);
+    }
+  }
 
   /// A += sum_p K_p, where kernel(p, stencil, K_p) fills the local matrix of point p
   /// (local index a*ncomp + comp). A must hold the pattern of build_pattern().
   template <class Kernel>
   void add_matrix(SparseMatrix& A, Kernel&& kernel) const {
-    // Points run on OpenMP threads, each with its own local matrix; the scatter-add into
-    // the shared values uses atomic adds (the result equals the serial one up to the
-    // order of floating-point additions).
     const int nc = dofs_.ncomp();
     double* values = A.valuePtr();
-    const int np = points_.size();
-#pragma omp parallel
-    {
-      LocalMatrix Ke;
-#pragma omp for schedule(static)
-      for (int p = 0; p < np; ++p) {
-        const Stencil<dim>& s = st_[p];
-        Ke.setZero(s.count * nc, s.count * nc);
-        kernel(p, s, Ke);
-        for (int b = 0; b < s.count; ++b)
-          for (int cb = 0; cb < nc; ++cb) {
-            const int col = dofs_.dof(s.node[b], cb);
-            for (int a = 0; a < s.count; ++a) {
-              // The components of a node are consecutive rows of every column: one
-              // search per node, not per component.
-              const int k0 = pattern_offset(A, dofs_.dof(s.node[a], 0), col);
-              for (int ca = 0; ca < nc; ++ca) {
-#pragma omp atomic
-                values[k0 + ca] += Ke(a * nc + ca, b * nc + cb);
-              }
-            }
+    for_each_point_disjoint([&](int p) {
+      LocalMatrix Ke;  // fixed capacity: on the stack
+      const Stencil<dim>& s = st_[p];
+      Ke.setZero(s.count * nc, s.count * nc);
+      kernel(p, s, Ke);
+      for (int b = 0; b < s.count; ++b)
+        for (int cb = 0; cb < nc; ++cb) {
+          const int col = dofs_.dof(s.node[b], cb);
+          for (int a = 0; a < s.count; ++a) {
+            // The components of a node are consecutive rows of every column: one
+            // search per node, not per component.
+            const int k0 = pattern_offset(A, dofs_.dof(s.node[a], 0), col);
+            for (int ca = 0; ca < nc; ++ca) values[k0 + ca] += Ke(a * nc + ca, b * nc + cb);
           }
-      }
-    }
+        }
+    });
   }
 
   /// M_ij = sum_p N_i(x_p) N_j(x_p) V_p   (one component per node)
@@ -119,9 +136,28 @@ class Assembler {
   }
 
  private:
+  void colour(const Grid<dim>& grid) {
+    std::map<std::array<int, dim>, int> bucket_of;  // anchor node -> bucket
+    colours_.assign(ipow(3, dim), {});
+    for (int p = 0; p < points_.size(); ++p) {
+      std::array<int, dim> anchor;
+      anchor.fill(std::numeric_limits<int>::max());
+      for (int a = 0; a < st_[p].count; ++a) {
+        const auto ijk = grid.node_ijk(st_[p].node[a]);
+        for (int d = 0; d < dim; ++d) anchor[d] = std::min(anchor[d], ijk[d]);
+      }
+      int c = 0;
+      for (int d = dim - 1; d >= 0; --d) c = 3 * c + anchor[d] % 3;
+      auto [it, fresh] = bucket_of.try_emplace(anchor, static_cast<int>(colours_[c].size()));
+      if (fresh) colours_[c].emplace_back();
+      colours_[c][it->second].push_back(p);
+    }
+  }
+
   const PointStencils<dim>& st_;
   const MaterialPoints<dim>& points_;
   const DofMap& dofs_;
+  std::vector<std::vector<std::vector<int>>> colours_;  ///< colour -> bucket -> points
 };
 
 }  // namespace gradmpm
