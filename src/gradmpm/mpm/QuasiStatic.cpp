@@ -133,18 +133,27 @@ class LoadStep {
         }
     });
     assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
+      // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
       const auto& G = grads_[p];
       const Mat9& A = response_[p].tangent;
       const double w = weights_[p];
-      for (int a = 0; a < s.count; ++a)
-        for (int b = 0; b < s.count; ++b)
+      for (int b = 0; b < s.count; ++b) {
+        double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j)
+            for (int k = 0; k < dim; ++k) {
+              double v = 0.0;
+              for (int l = 0; l < dim; ++l) v += A(3 * i + j, 3 * k + l) * G[b][l];
+              H[i][j][k] = w * v;
+            }
+        for (int a = 0; a < s.count; ++a)
           for (int i = 0; i < dim; ++i)
             for (int k = 0; k < dim; ++k) {
               double v = 0.0;
-              for (int j = 0; j < dim; ++j)
-                for (int l = 0; l < dim; ++l) v += G[a][j] * A(3 * i + j, 3 * k + l) * G[b][l];
-              Ke(a * dim + i, b * dim + k) = w * v;
+              for (int j = 0; j < dim; ++j) v += G[a][j] * H[i][j][k];
+              Ke(a * dim + i, b * dim + k) = v;
             }
+      }
     });
   }
 
