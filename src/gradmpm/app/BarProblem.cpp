@@ -136,15 +136,17 @@ BarResult solve_bar(const BarConfig& c) {
     }
     case GradientVariant::E_RA: {
       const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, {}, c.solver);
-      strain_nodes = dofs.to_grid(smoother.smooth_point_field(r.point_strain_classical));
-      r.point_strain_gradient = nodes_to_points(st, strain_nodes);
+      const Vector smoothed = smoother.smooth_point_field(r.point_strain_classical);
+      strain_nodes = dofs.to_grid(smoothed);
+      r.point_strain_gradient = assembler.interpolate(smoothed);
       r.point_stress_gradient = point_stresses(r, r.point_strain_gradient);
       break;
     }
     case GradientVariant::S_RA: {
       const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, {}, c.solver);
-      stress_nodes = dofs.to_grid(smoother.smooth_point_field(r.point_stress_classical));
-      r.point_stress_gradient = nodes_to_points(st, stress_nodes);
+      const Vector smoothed = smoother.smooth_point_field(r.point_stress_classical);
+      stress_nodes = dofs.to_grid(smoothed);
+      r.point_stress_gradient = assembler.interpolate(smoothed);
       r.point_strain_gradient = point_compliant_strains(r, r.point_stress_gradient);
       break;
     }

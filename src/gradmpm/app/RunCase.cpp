@@ -14,11 +14,10 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
   BarOutputOptions output;
   BarMpmConfig mpm;
   const bool as_mpm = cf.has_section("mpm");
-  BarConfig config = read_bar_config(cf, output, as_mpm ? &mpm : nullptr);
+  const BarConfig config = read_bar_config(cf, output, as_mpm ? &mpm : nullptr);
   StagedOutputs out(out_dir);  // fails now, before solving, if the directory is unusable
 
   double gradient_s = 0, classical_s = 0;
-  if (as_mpm) config.variant = mpm.gradient.variant;
   const BarResult r = as_mpm ? solve_bar_mpm(mpm, &gradient_s, &classical_s) : solve_bar(config);
   const double err = bar_strain_error(config, r);
   write_bar_outputs(config, r, out, output);

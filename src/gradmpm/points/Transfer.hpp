@@ -1,6 +1,6 @@
 #pragma once
-// Grid <-> point transfers of the MPM.
-//  - nodes_to_points: interpolation, eq. (2) of the paper: q_p = sum_i N_i(x_p) q_i.
+// Point <-> grid transfers of the MPM. (Interpolation of a nodal field to the points,
+// eq. (2) of the paper, is Assembler::interpolate.)
 //  - points_to_nodes: volume-weighted recovery of a point field at the nodes,
 //      q_i = sum_p N_i(x_p) V_p q_p / sum_p N_i(x_p) V_p,
 //    the mapping of eq. (1) normalised by the nodal "volume" (a lumped L2 projection).
@@ -46,18 +46,6 @@ template <int dim>
 PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points, BasisKind kind) {
   if (kind == BasisKind::MPM) return evaluate_stencils<dim, LinearBasis<dim>>(grid, points);
   return evaluate_stencils<dim, GimpBasis<dim>>(grid, points);
-}
-
-/// q_p = sum_i N_i(x_p) q_i for a scalar nodal field.
-template <int dim>
-std::vector<double> nodes_to_points(const PointStencils<dim>& st, const Vector& nodal) {
-  std::vector<double> out(st.size());
-  for (std::size_t p = 0; p < st.size(); ++p) {
-    double v = 0.0;
-    for (int a = 0; a < st[p].count; ++a) v += st[p].N[a] * nodal[st[p].node[a]];
-    out[p] = v;
-  }
-  return out;
 }
 
 /// Volume-weighted recovery of a scalar point field at the nodes (see header).

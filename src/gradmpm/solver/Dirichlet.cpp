@@ -9,7 +9,6 @@ namespace gradmpm {
 void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs) {
   dofs_ = dofs;
   removed_.clear();
-  diagonal_.assign(dofs.size(), 1.0);
   std::vector<int> index(A.rows(), -1);  // constraint number of each dof, or -1
   for (std::size_t k = 0; k < dofs.size(); ++k) {
     if (dofs[k] < 0 || dofs[k] >= A.rows())
@@ -23,7 +22,7 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
     for (SparseMatrix::InnerIterator it(A, col); it; ++it)
       if (it.row() == col) scale = std::max(scale, std::abs(it.value()));
   if (!(scale > 0.0)) scale = 1.0;
-  diagonal_.assign(dofs.size(), scale);
+  scale_ = scale;
   for (int col = 0; col < A.outerSize(); ++col) {
     for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
       const int row = it.row();
@@ -43,7 +42,7 @@ void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& va
   if (values.size() != dofs_.size())
     throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
   for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
-  for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = diagonal_[k] * values[k];
+  for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = scale_ * values[k];
 }
 
 }  // namespace gradmpm
