@@ -1,7 +1,8 @@
 // bench_mpm: what one Newton iteration of the implicit MPM costs, phase by phase, as the
 // problem grows (docs/performance.md). Never part of the tests.
 //
-//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE]
+//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE]
+//   (--only runs one size of one case, e.g. column_2d:224 or footing_2d:4, for profiling)
 //
 // Cases (built from case-file text, so they are the code paths users run):
 //   column_2d  a square block under self-weight (Hencky, nu = 0.3), base fixed, sides on
@@ -168,12 +169,14 @@ int main(int argc, char** argv) {
   bool quick = false;
   int threads = omp_get_max_threads();
   std::string csv_path = "bench-results.csv";
+  std::string only;  // "case:size"
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else {
-      fmt::print(stderr, "usage: bench_mpm [--quick] [--threads N] [--csv FILE]\n");
+      fmt::print(stderr, "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE]\n");
       return 2;
     }
   }
@@ -186,12 +189,25 @@ int main(int argc, char** argv) {
   csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_mib\n";
   fmt::print("bench_mpm: {} thread(s), {} sweep; seconds per Newton iteration\n", threads, quick ? "quick" : "full");
 
-  const std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
+  std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
+  std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24, 34};
+  std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8};
+  if (!only.empty()) {
+    const auto colon = only.find(':');
+    const std::string name = only.substr(0, colon);
+    const int size = colon == std::string::npos ? 0 : std::atoi(only.c_str() + colon + 1);
+    if (size <= 0 || (name != "column_2d" && name != "column_3d" && name != "footing_2d")) {
+      fmt::print(stderr, "bench_mpm: --only expects column_2d:N, column_3d:N or footing_2d:R with N, R > 0, not '{}'\n",
+                 only);
+      return 2;
+    }
+    n2 = name == "column_2d" ? std::vector<int>{size} : std::vector<int>{};
+    n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
+    refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
+  }
   for (int n : n2) bench<2>("column_2d", CaseFile::parse(column_2d(n), "column_2d"), csv, threads);
-  const std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24, 34};
   for (int n : n3) bench<3>("column_3d", CaseFile::parse(column_3d(n), "column_3d"), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";
-  const std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8};
   for (int r : refine) {
     const double h = 0.125 / r;
     bench<2>("footing_2d",

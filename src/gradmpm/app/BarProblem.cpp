@@ -33,7 +33,9 @@ std::vector<double> point_strains(const PointStencils<1>& st, const Vector& u) {
 double axial_modulus(const Material& m) {
   MaterialResponse r;
   m.update(Mat3::Identity(), Mat3::Zero(), r);
-  return r.tangent(0, 0);
+  Mat9 A;
+  m.tangent(r, A);
+  return A(0, 0);
 }
 /// sigma_p = law(eps_p): the constitutive update at every point (axial strain only).
 std::vector<double> point_stresses(const BarResult& r, const std::vector<double>& eps) {

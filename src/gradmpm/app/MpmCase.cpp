@@ -421,7 +421,9 @@ std::string column_check(const Model<dim>& m, const fs::path& dir, bool plot) {
   // Young's modulus from the tangent at rest (nu = 0: A_yyyy = E).
   MaterialResponse r;
   mat->update(Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Zero(), r);
-  const analytic::Column col{top - base, mat->density, -m.gravity[dim - 1], r.tangent(3 * (dim - 1) + dim - 1, 3 * (dim - 1) + dim - 1)};
+  Mat9 A;
+  mat->tangent(r, A);
+  const analytic::Column col{top - base, mat->density, -m.gravity[dim - 1], A(3 * (dim - 1) + dim - 1, 3 * (dim - 1) + dim - 1)};
   std::vector<double> Y, s, se, y, ye;
   double err_s = 0, err_y = 0;
   for (int p = 0; p < P.size(); ++p) {

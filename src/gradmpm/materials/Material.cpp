@@ -57,7 +57,6 @@ void LinearElastic::update(const Mat3& dF, const Mat3& strain_n, MaterialRespons
   const Mat3 g = dF - Mat3::Identity();
   out.strain = strain_n + 0.5 * (g + g.transpose());
   out.stress = contract(D_, out.strain);
-  out.tangent = D_;
 }
 
 Hencky::Hencky(double E, double nu, double rho)
@@ -80,29 +79,47 @@ void Hencky::update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out)
   const Mat3& n = eig.eigenvectors();  // columns n_a
   out.strain = n * (0.5 * lam.array().log()).matrix().asDiagonal() * n.transpose();
   out.stress = lambda_ * out.strain.trace() * Mat3::Identity() + 2.0 * mu_ * out.strain;
+  out.principal = lam;
+  out.directions = n;
+}
 
-  // L_ijkl = sum_ab theta_ab n_ai n_bj n_ak n_bl (Daleckii-Krein derivative of ln).
-  Mat3 theta;
+void Hencky::tangent(const MaterialResponse& r, Mat9& A) const {
+  // A = 1/2 D : L : B - tau_il d_jk (L = d ln b / d b, B = d b / d g), written in the
+  // principal frame n_a of b, where L and B are diagonal and D stays isotropic. With
+  // P_ab = n_a (x) n_b, theta_ab the divided difference of ln and tau_a = n_a.tau.n_a:
+  //   A = lambda I(x)I + sum_a (2 mu - tau_a) P_aa P_aa
+  //     + sum_{a<b} [mu theta_ab (l_b P_ab P_ab + l_a P_ba P_ba) + e_ab (P_ab P_ba + P_ba P_ab)],
+  //   e_ab = mu theta_ab l_a - tau_a (= mu theta_ab l_b - tau_b: the major symmetry).
+  // Nine rank-one terms instead of two dense 9x9 products (docs/performance.md).
+  const Eigen::Vector3d& lam = r.principal;
+  const Mat3& n = r.directions;
+  auto P = [&](int a, int b) {  // vec(n_a (x) n_b), index 3i + j
+    Eigen::Matrix<double, 9, 1> v;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) v[at(i, j)] = n(i, a) * n(j, b);
+    return v;
+  };
+  Mat9 U, W;  // A = lambda I(x)I + U W^T, column t of U and W one rank-one term
+  for (int a = 0; a < 3; ++a) {
+    const double tau_a = n.col(a).dot(r.stress * n.col(a));
+    U.col(a) = P(a, a);
+    W.col(a) = (2.0 * mu_ - tau_a) * U.col(a);
+  }
+  int t = 3;
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) theta(a, b) = a == b ? 1.0 / lam[a] : log_divided_difference(lam[a], lam[b]);
-  Mat9 L = Mat9::Zero();
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      Eigen::Matrix<double, 9, 1> m;  // (n_a (x) n_b) flattened
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) m[at(i, j)] = n(i, a) * n(j, b);
-      L.noalias() += theta(a, b) * m * m.transpose();
+    for (int b = a + 1; b < 3; ++b, t += 2) {
+      const double theta = log_divided_difference(lam[a], lam[b]);
+      const double tau_a = n.col(a).dot(r.stress * n.col(a));
+      const double e = mu_ * theta * lam[a] - tau_a;
+      const auto pab = P(a, b), pba = P(b, a);
+      U.col(t) = pab;
+      W.col(t) = mu_ * theta * lam[b] * pab + e * pba;
+      U.col(t + 1) = pba;
+      W.col(t + 1) = mu_ * theta * lam[a] * pba + e * pab;
     }
-  Mat9 B = Mat9::Zero(), T = Mat9::Zero();
-  for (int p = 0; p < 3; ++p)
-    for (int q = 0; q < 3; ++q)
-      for (int k = 0; k < 3; ++k)
-        for (int l = 0; l < 3; ++l) {
-          B(at(p, q), at(k, l)) = (p == k) * be(l, q) + (q == k) * be(p, l);
-          T(at(p, q), at(k, l)) = out.stress(p, l) * (q == k);
-        }
-  out.tangent.noalias() = 0.5 * D_ * L * B;
-  out.tangent -= T;
+  A.noalias() = U.lazyProduct(W.transpose());
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) A(at(i, i), at(k, k)) += lambda_;
 }
 
 }  // namespace gradmpm

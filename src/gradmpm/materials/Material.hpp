@@ -1,8 +1,10 @@
 #pragma once
 // The constitutive interface of the implicit MPM. A material answers, for one point and
 // one Newton iterate, "given the deformation-gradient increment dF of this load step and
-// the history at the start of the step, what are the stress, the new history and the
-// consistent tangent?". Tensors are 3x3 in every dimension (plane strain and 1D uniaxial
+// the history at the start of the step, what are the stress and the new history?"
+// (update), and "what is the consistent tangent at that state?" (tangent). The two are
+// separate because Newton needs the tangent only when the residual has not converged,
+// and the global assembly forms it point by point without storing it. Tensors are 3x3 in every dimension (plane strain and 1D uniaxial
 // strain embed their dim x dim blocks); fourth-order tensors are 9x9 with row i*3+j and
 // column k*3+l.
 #include <Eigen/Core>
@@ -14,10 +16,12 @@ namespace gradmpm {
 using Mat3 = Eigen::Matrix3d;
 using Mat9 = Eigen::Matrix<double, 9, 9>;
 
+/// What update() leaves for the caller and for tangent().
 struct MaterialResponse {
-  Mat3 stress;    ///< Kirchhoff tau (finite strain) or Cauchy sigma (small strain)
-  Mat3 strain;    ///< new elastic (logarithmic or small) strain: the history to keep
-  Mat9 tangent;   ///< A_ijkl with d(stress_ij grad_j eta_i) = grad_j eta_i A_ijkl grad_l du_k
+  Mat3 stress;                ///< Kirchhoff tau (finite strain) or Cauchy sigma (small strain)
+  Mat3 strain;                ///< new elastic (logarithmic or small) strain: the history to keep
+  Eigen::Vector3d principal;  ///< finite strain: principal values of the trial b_e
+  Mat3 directions;            ///< finite strain: their directions (columns)
 };
 
 class Material {
@@ -30,6 +34,9 @@ class Material {
   /// `dF`: deformation gradient of the step's displacement increment, I + d(du)/dx_n.
   /// `strain_n`: the history (elastic strain) at the start of the step.
   virtual void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const = 0;
+  /// The consistent tangent at the state `r` that update() returned:
+  /// A_ijkl with d(stress_ij grad_j eta_i) = grad_j eta_i A_ijkl grad_l du_k.
+  virtual void tangent(const MaterialResponse& r, Mat9& A) const = 0;
   virtual std::string name() const = 0;
 
   /// Isotropic elasticity D : eps (lambda tr eps I + 2 mu eps) and its inverse. The
@@ -53,6 +60,7 @@ class LinearElastic final : public Material {
   LinearElastic(double young, double poisson, double rho);
   bool finite_strain() const override { return false; }
   void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const override;
+  void tangent(const MaterialResponse&, Mat9& A) const override { A = D_; }
   std::string name() const override { return "linear-elastic"; }
 
  private:
@@ -67,6 +75,7 @@ class Hencky final : public Material {
   Hencky(double young, double poisson, double rho);
   bool finite_strain() const override { return true; }
   void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const override;
+  void tangent(const MaterialResponse& r, Mat9& A) const override;
   std::string name() const override { return "hencky"; }
 
  private:

@@ -75,15 +75,14 @@ class LoadStep {
   const std::vector<double>& increments() const { return increments_; }
   const SparseMatrix& pattern() const { return pattern_; }
 
-  /// Point loop: material update for the increment du, internal force and tangent.
-  /// The material updates are independent and run on OpenMP threads; the shared sums
-  /// (f_int, K) are scattered by buckets of points with disjoint nodes
+  /// Point loop for the iterate du: material updates (stress and history) and the
+  /// internal force f_int,i = sum_p tau_p grad N_i w_p. The updates are independent and
+  /// run on OpenMP threads; f_int is scattered by buckets of points with disjoint nodes
   /// (Assembler::for_each_point_disjoint), so the result does not depend on the threads.
-  void linearise(const Vector& du, Vector& f_int, SparseMatrix& K) {
+  void internal_force(const Vector& du, Vector& f_int) {
     const auto& pts = model_.points;
     const int np = pts.size();
     f_int = Vector::Zero(dofs_.num_dofs());
-    K = pattern_;
     grads_.resize(np);
     weights_.resize(np);
     int inverted = -1;
@@ -102,8 +101,7 @@ class LoadStep {
         continue;
       }
       const Material& mat = *model_.materials[pts.material[p]];
-      MaterialResponse& r = response_[p];
-      mat.update(dF, pts.strain[p], r);
+      mat.update(dF, pts.strain[p], response_[p]);
       auto& G = grads_[p];  // gradients in the configuration the stress lives in
       if (mat.finite_strain()) {
         const Mat3 inv = dF.inverse();
@@ -120,7 +118,6 @@ class LoadStep {
       }
     }
     if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
-    // f_int,i = sum_p tau_p grad N_i w_p: scattered by disjoint buckets, no atomics.
     assembler_.for_each_point_disjoint([&](int p) {
       const Stencil<dim>& s = st_[p];
       const auto& G = grads_[p];
@@ -132,10 +129,17 @@ class LoadStep {
           f_int[dofs_.dof(s.node[a], i)] += weights_[p] * f;
         }
     });
+  }
+
+  /// The tangent K at the state of the last internal_force(): each point's material
+  /// tangent is formed inside the (coloured, threaded) scatter-add and never stored.
+  void stiffness(SparseMatrix& K) const {
+    K = pattern_;
     assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
       // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
       const auto& G = grads_[p];
-      const Mat9& A = response_[p].tangent;
+      Mat9 A;
+      model_.materials[model_.points.material[p]]->tangent(response_[p], A);
       const double w = weights_[p];
       for (int b = 0; b < s.count; ++b) {
         double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
@@ -211,7 +215,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   SparseMatrix K;
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
-    step.linearise(du, f_int, K);
+    step.internal_force(du, f_int);
     times.assembly += since(t0);
     Vector r = step.f_ext() - f_int;
     const double scale = std::max(step.f_ext().norm(), f_int.norm());
@@ -229,6 +233,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
       throw StepFailure{fmt::format("no convergence in {} iterations (residual {:.3e})", it, err)};
     if (it >= 2 && err > 1e6 * std::max(residuals.front(), settings.tolerance))
       throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
+    t0 = Clock::now();
+    step.stiffness(K);  // only when another iteration follows
+    times.assembly += since(t0);
     DirichletElimination bc;
     bc.apply_to_matrix(K, step.constrained());
     bc.apply_to_rhs(r, it == 0 ? step.increments() : zeros);
