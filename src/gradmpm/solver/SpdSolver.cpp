@@ -6,10 +6,30 @@
 #include <Eigen/SparseLU>
 #include <cmath>
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "gradmpm/core/Errors.hpp"
 
 namespace gradmpm {
+
+namespace {
+/// CHOLMOD 3 (SuiteSparse 5, as Debian 12 ships it) runs parts of its supernodal
+/// factorisation on a fixed team of 4 OpenMP threads (CHOLMOD_OMP_NUM_THREADS), however
+/// many cores the machine has and whatever the caller asked for. On 2 cores that
+/// oversubscribes them: a 1e5-dof 2D factorisation took 1.13 s instead of 0.75 s
+/// (docs/performance.md). With dynamic adjustment on, libgomp caps every team at the
+/// caller's thread setting and the idle processors, so it is switched on around CHOLMOD.
+class CholmodThreadCap {
+ public:
+  CholmodThreadCap() : previous_(omp_get_dynamic()) { omp_set_dynamic(1); }
+  ~CholmodThreadCap() { omp_set_dynamic(previous_); }
+  CholmodThreadCap(const CholmodThreadCap&) = delete;
+  CholmodThreadCap& operator=(const CholmodThreadCap&) = delete;
+
+ private:
+  int previous_;
+};
+}  // namespace
 
 struct SpdSolver::Impl {
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> cholmod;
@@ -32,9 +52,10 @@ std::string_view SpdSolver::name(Backend b) {
 }
 
 void SpdSolver::analyze(const SparseMatrix& A) {
-  if (backend_ == Backend::Cholmod)
+  if (backend_ == Backend::Cholmod) {
+    CholmodThreadCap cap;
     impl_->cholmod.analyzePattern(A);
-  else if (backend_ == Backend::EigenLDLT)
+  } else if (backend_ == Backend::EigenLDLT)
     impl_->ldlt.analyzePattern(A);
   else
     impl_->pcg.analyzePattern(A);
@@ -46,6 +67,7 @@ void SpdSolver::factorize(const SparseMatrix& A) {
   if (!analyzed_) analyze(A);
   Eigen::ComputationInfo info;
   if (backend_ == Backend::Cholmod) {
+    CholmodThreadCap cap;
     impl_->cholmod.factorize(A);
     info = impl_->cholmod.info();
   } else if (backend_ == Backend::PCG) {
@@ -85,6 +107,7 @@ Vector SpdSolver::solve(const Vector& b) const {
                                     impl_->pcg.maxIterations()));
     return x;
   }
+  CholmodThreadCap cap;
   Vector x = backend_ == Backend::Cholmod ? Vector(impl_->cholmod.solve(b))
                                           : Vector(impl_->ldlt.solve(b));
   if (!x.allFinite()) throw SolverError("sparse solve produced non-finite values");
