@@ -5,7 +5,6 @@
 #include <Eigen/Dense>
 #include <array>
 #include <limits>
-#include <map>
 
 #include "gradmpm/solver/SparsePattern.hpp"
 
@@ -137,10 +136,10 @@ class Assembler {
 
  private:
   void colour(const Grid<dim>& grid) {
-    std::map<std::array<int, dim>, int> bucket_of;  // anchor node -> bucket
+    std::vector<int> bucket_of(grid.num_nodes(), -1);  // anchor node -> bucket in its colour
     colours_.assign(ipow(3, dim), {});
     for (int p = 0; p < points_.size(); ++p) {
-      std::array<int, dim> anchor;
+      typename Grid<dim>::Index anchor;
       anchor.fill(std::numeric_limits<int>::max());
       for (int a = 0; a < st_[p].count; ++a) {
         const auto ijk = grid.node_ijk(st_[p].node[a]);
@@ -148,9 +147,12 @@ class Assembler {
       }
       int c = 0;
       for (int d = dim - 1; d >= 0; --d) c = 3 * c + anchor[d] % 3;
-      auto [it, fresh] = bucket_of.try_emplace(anchor, static_cast<int>(colours_[c].size()));
-      if (fresh) colours_[c].emplace_back();
-      colours_[c][it->second].push_back(p);
+      int& b = bucket_of[grid.node_index(anchor)];
+      if (b < 0) {
+        b = static_cast<int>(colours_[c].size());
+        colours_[c].emplace_back();
+      }
+      colours_[c][b].push_back(p);
     }
   }
 

@@ -10,29 +10,55 @@
 
 namespace gradmpm {
 
-/// Returns a compressed matrix holding the pattern with all values zero.
+/// Returns a compressed matrix holding the pattern with all values zero. Node by node:
+/// the points touching a node (an incidence list) name its neighbours, which are
+/// collected once each with a stamp array and sorted (a couple of dozen per node), and
+/// written straight into the compressed arrays.
 template <int dim>
 SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
   const int n_active = dofs.num_active_nodes(), nc = dofs.ncomp();
-  std::vector<std::vector<int>> adj(n_active);  // neighbour equations per active node
+  auto eq = [&](int node) { return dofs.dof(node, 0) / nc; };
+  // Points touching each active node, as compressed lists.
+  std::vector<int> first(n_active + 1, 0);
   for (const auto& s : st)
-    for (int a = 0; a < s.count; ++a) {
-      auto& row = adj[dofs.dof(s.node[a], 0) / nc];
-      for (int b = 0; b < s.count; ++b) row.push_back(dofs.dof(s.node[b], 0) / nc);
-    }
-  SparseMatrix A(n_active * nc, n_active * nc);
-  std::vector<int> nnz_per_col(n_active * nc);
+    for (int a = 0; a < s.count; ++a) ++first[eq(s.node[a]) + 1];
+  for (int e = 0; e < n_active; ++e) first[e + 1] += first[e];
+  std::vector<int> touching(first[n_active]), fill(first.begin(), first.end() - 1);
+  for (int p = 0; p < static_cast<int>(st.size()); ++p)
+    for (int a = 0; a < st[p].count; ++a) touching[fill[eq(st[p].node[a])]++] = p;
+  // Neighbour equations of each active node.
+  std::vector<int> nbr_first(n_active + 1, 0), nbrs, stamp(n_active, -1);
+  nbrs.reserve(static_cast<std::size_t>(n_active) * ipow(5, dim));
   for (int e = 0; e < n_active; ++e) {
-    std::sort(adj[e].begin(), adj[e].end());
-    adj[e].erase(std::unique(adj[e].begin(), adj[e].end()), adj[e].end());
-    for (int c = 0; c < nc; ++c) nnz_per_col[e * nc + c] = static_cast<int>(adj[e].size()) * nc;
+    const std::size_t begin = nbrs.size();
+    for (int k = first[e]; k < first[e + 1]; ++k) {
+      const auto& s = st[touching[k]];
+      for (int b = 0; b < s.count; ++b) {
+        const int f = eq(s.node[b]);
+        if (stamp[f] != e) {
+          stamp[f] = e;
+          nbrs.push_back(f);
+        }
+      }
+    }
+    std::sort(nbrs.begin() + begin, nbrs.end());
+    nbr_first[e + 1] = static_cast<int>(nbrs.size());
   }
-  A.reserve(nnz_per_col);
-  for (int e = 0; e < n_active; ++e)  // columns in order, rows sorted: cheap insertBack-like
-    for (int c = 0; c < nc; ++c)
-      for (int f : adj[e])
-        for (int r = 0; r < nc; ++r) A.insert(f * nc + r, e * nc + c) = 0.0;
-  A.makeCompressed();
+  // Compressed column storage: column (e, c) holds rows (f, r) for every neighbour f.
+  const int n = n_active * nc;
+  SparseMatrix A(n, n);
+  A.resizeNonZeros(static_cast<Eigen::Index>(nbrs.size()) * nc * nc);
+  int* outer = A.outerIndexPtr();
+  int* inner = A.innerIndexPtr();
+  int k = 0;
+  for (int e = 0; e < n_active; ++e)
+    for (int c = 0; c < nc; ++c) {
+      outer[e * nc + c] = k;
+      for (int m = nbr_first[e]; m < nbr_first[e + 1]; ++m)
+        for (int r = 0; r < nc; ++r) inner[k++] = nbrs[m] * nc + r;
+    }
+  outer[n] = k;
+  std::fill(A.valuePtr(), A.valuePtr() + k, 0.0);
   return A;
 }
 
