@@ -38,6 +38,10 @@ class HelmholtzSmoother {
     return solve(assembler_.load(c_at_points), dirichlet_values);
   }
 
+  /// Natural-boundary smoothing of several fields at once: column j of `f` is the load
+  /// of field j (Assembler::load_columns); one solve sweep serves all.
+  Eigen::MatrixXd smooth_loads(const Eigen::MatrixXd& f) const { return solver_.solve(f); }
+
   /// Smooths a nodal field (u-RA: a displacement component): f_i = sum_p N_i c(x_p) V_p,
   /// which is M c with M integrated by the points.
   Vector smooth_nodal_field(const Vector& c, const std::vector<double>& dirichlet_values = {}) const {

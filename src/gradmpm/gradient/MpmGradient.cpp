@@ -31,10 +31,21 @@ class SmoothingContext {
         pattern_(build_pattern(st_, dofs_)),
         assembler_(st_, m.points, dofs_, &m.grid) {}
 
-  /// Natural-boundary smoothing of a point field.
-  std::vector<double> smooth_natural(const std::vector<double>& c) {
+  /// Natural-boundary smoothing of a symmetric tensor field at the points: the
+  /// components that can be non-zero in `dim` (in-plane ones and the out-of-plane
+  /// diagonal) are loaded in one pass over the points, solved in one sweep and
+  /// interpolated back in one pass.
+  std::vector<Mat3> smooth_tensor(const std::vector<Mat3>& t) {
+    std::vector<std::array<int, 2>> comps;
+    for (const auto& ij : kSym)
+      if (ij[0] == ij[1] || (ij[0] < dim && ij[1] < dim)) comps.push_back({ij[0], ij[1]});
+    const int nc = static_cast<int>(comps.size());
     if (!natural_) natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_);
-    return assembler_.interpolate(natural_->smooth_point_field(c));
+    const Eigen::MatrixXd G =
+        natural_->smooth_loads(assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); }));
+    std::vector<Mat3> out(t.size(), Mat3::Zero());
+    assembler_.interpolate_columns(G, [&](int p, int j, double v) { out[p](comps[j][0], comps[j][1]) = out[p](comps[j][1], comps[j][0]) = v; });
+    return out;
   }
 
   /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
@@ -91,19 +102,6 @@ class SmoothingContext {
 template <int dim>
 double stress_jacobian(const Model<dim>& m, int p) {
   return m.materials[m.points.material[p]]->finite_strain() ? m.points.F[p].determinant() : 1.0;
-}
-
-/// Smooths a symmetric tensor field at the points (natural boundaries), all six components.
-template <int dim>
-std::vector<Mat3> smooth_tensor(SmoothingContext<dim>& ctx, const std::vector<Mat3>& t) {
-  std::vector<Mat3> out(t.size(), Mat3::Zero());
-  std::vector<double> c(t.size());
-  for (const auto& ij : kSym) {
-    for (std::size_t p = 0; p < t.size(); ++p) c[p] = t[p](ij[0], ij[1]);
-    const std::vector<double> g = ctx.smooth_natural(c);
-    for (std::size_t p = 0; p < t.size(); ++p) out[p](ij[0], ij[1]) = out[p](ij[1], ij[0]) = g[p];
-  }
-  return out;
 }
 
 /// u-RA: smoothed displacement (increment or total) at the points and its gradient in
@@ -169,11 +167,11 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
     }
     case GradientVariant::E_RA:
       f.displacement = u;
-      f.strain = smooth_tensor(ctx, m.points.strain);
+      f.strain = ctx.smooth_tensor(m.points.strain);
       break;
     case GradientVariant::S_RA:
       f.displacement = u;
-      f.stress = smooth_tensor(ctx, m.points.stress);
+      f.stress = ctx.smooth_tensor(m.points.stress);
       break;
     default:
       break;
@@ -217,7 +215,7 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
       std::vector<Mat3> d(n);
       for (int p = 0; p < n; ++p)
         d[p] = strain ? Mat3(m.points.strain[p] - prev_strain_[p]) : Mat3(m.points.stress[p] - prev_stress_[p]);
-      const std::vector<Mat3> g = smooth_tensor(ctx, d);
+      const std::vector<Mat3> g = ctx.smooth_tensor(d);
       for (int p = 0; p < n; ++p) (strain ? fields_.strain[p] : fields_.stress[p]) += g[p];
     }
     complete(m, v, fields_);

@@ -123,6 +123,38 @@ class Assembler {
     return f;
   }
 
+  /// Several point fields at once: F(i, j) = sum_p N_i(x_p) q_p[j] V_p, scattered by
+  /// disjoint buckets (threads, no atomics). `q(p, j)` returns component j at point p.
+  template <class Q>
+  Eigen::MatrixXd load_columns(int ncols, Q&& q) const {
+    Eigen::MatrixXd F = Eigen::MatrixXd::Zero(dofs_.num_dofs(), ncols);
+    for_each_point_disjoint([&](int p) {
+      const Stencil<dim>& s = st_[p];
+      for (int a = 0; a < s.count; ++a) {
+        const int i = dofs_.dof(s.node[a], 0);
+        const double w = s.N[a] * points_.volume[p];
+        for (int j = 0; j < ncols; ++j) F(i, j) += w * q(p, j);
+      }
+    });
+    return F;
+  }
+
+  /// The nodal fields G (one per column, equation numbering) at every point:
+  /// out(p, j, value) receives sum_i N_i(x_p) G(i, j). Threads over points.
+  template <class Out>
+  void interpolate_columns(const Eigen::MatrixXd& G, Out&& out) const {
+    const int np = points_.size(), ncols = static_cast<int>(G.cols());
+#pragma omp parallel for schedule(static)
+    for (int p = 0; p < np; ++p) {
+      const Stencil<dim>& s = st_[p];
+      for (int j = 0; j < ncols; ++j) {
+        double v = 0.0;
+        for (int a = 0; a < s.count; ++a) v += s.N[a] * G(dofs_.dof(s.node[a], 0), j);
+        out(p, j, v);
+      }
+    }
+  }
+
   /// f_i = sum_p dN_i/dx_d(x_p) q_p V_p   (the weak divergence of a point field)
   Vector gradient_load(const std::vector<double>& q, int d) const {
     Vector f = Vector::Zero(dofs_.num_dofs());

@@ -114,6 +114,20 @@ Vector SpdSolver::solve(const Vector& b) const {
   return x;
 }
 
+Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
+  if (backend_ == Backend::PCG) {  // column by column, each checked
+    Eigen::MatrixXd X(B.rows(), B.cols());
+    for (Eigen::Index j = 0; j < B.cols(); ++j) X.col(j) = solve(Vector(B.col(j)));
+    return X;
+  }
+  if (!factorized_) throw SolverError("SpdSolver::solve called before factorize");
+  CholmodThreadCap cap;
+  Eigen::MatrixXd X = backend_ == Backend::Cholmod ? Eigen::MatrixXd(impl_->cholmod.solve(B))
+                                                   : Eigen::MatrixXd(impl_->ldlt.solve(B));
+  if (!X.allFinite()) throw SolverError("sparse solve produced non-finite values");
+  return X;
+}
+
 Vector SpdSolver::solve_general(const SparseMatrix& A, const Vector& b) {
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
   lu.compute(A);

@@ -30,6 +30,8 @@ class SpdSolver {
   /// pcg_tolerance within pcg_max_iterations (default max(200, 20 sqrt(n))), else
   /// SolverError naming the iterations and the residual reached.
   Vector solve(const Vector& b) const;
+  /// X = A^{-1} B for several right-hand sides at once (direct backends in one sweep).
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
 
   double pcg_tolerance = 1e-12;
   int pcg_max_iterations = 0;  ///< 0: scaled to the problem, max(200, 20 sqrt(n))
