@@ -9,7 +9,9 @@
 //     the tangent tends to D;
 //  R4 the spectral form of that tangent (nine rank-one terms) equals the textbook dense
 //     form 1/2 D : L : B - tau_il delta_jk to round-off;
-//  R5 the Hencky stress is D : (1/2 ln b_e) exactly, b_e = dF exp(2 eps_n) dF^T, and
+//  R5 the plane (dim = 2) and uniaxial (dim = 1) tangents are the in-plane blocks of
+//     the full one;
+//  R6 the Hencky stress is D : (1/2 ln b_e) exactly, b_e = dF exp(2 eps_n) dF^T, and
 //     the returned strain is the history the next step starts from.
 #include <gtest/gtest.h>
 
@@ -26,7 +28,7 @@ Mat9 tangent_of(const Material& m, const Mat3& dF, const Mat3& strain_n) {
   MaterialResponse r;
   m.update(dF, strain_n, r);
   Mat9 A;
-  m.tangent(r, A);
+  m.tangent(r, 3, A);
   return A;
 }
 
@@ -135,11 +137,32 @@ TEST(Hencky, SpectralTangentEqualsTheDenseForm) {
   MaterialResponse r;
   hencky.update(dF, eps_n, r);
   Mat9 A;
-  hencky.tangent(r, A);
+  hencky.tangent(r, 3, A);
   const Mat9 Ad = dense_hencky_tangent(r, 1000.0, 0.3);
   const double err = (A - Ad).cwiseAbs().maxCoeff() / Ad.cwiseAbs().maxCoeff();
   std::printf("spectral vs dense tangent: %.2e\n", err);
   EXPECT_LT(err, 1e-13);
+}
+
+TEST(Hencky, PlaneAndUniaxialTangentsAreBlocksOfTheFullOne) {
+  Mat3 dF = Mat3::Identity();
+  dF.topLeftCorner<2, 2>() << 0.8, 0.25, -0.1, 1.15;  // plane strain kinematics
+  Mat3 eps_n = Mat3::Zero();
+  eps_n.topLeftCorner<2, 2>() << 0.03, -0.02, -0.02, -0.06;
+  MaterialResponse r;
+  hencky.update(dF, eps_n, r);
+  Mat9 full;
+  hencky.tangent(r, 3, full);
+  for (int dim : {1, 2}) {
+    Mat9 A;
+    hencky.tangent(r, dim, A);
+    double err = 0.0;
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j)
+        for (int k = 0; k < dim; ++k)
+          for (int l = 0; l < dim; ++l) err = std::max(err, std::abs(A(3 * i + j, 3 * k + l) - full(3 * i + j, 3 * k + l)));
+    EXPECT_LT(err, 1e-13 * full.cwiseAbs().maxCoeff()) << "dim " << dim;
+  }
 }
 
 TEST(Hencky, SmallStrainLimitIsLinearElasticity) {
@@ -190,6 +213,6 @@ TEST(LinearElastic, StressAndTangentAreIsotropicElasticity) {
   EXPECT_LT((r.strain - eps).norm(), 1e-15);
   EXPECT_LT((r.stress - lin.elastic_stress(eps)).norm(), 1e-13);
   Mat9 A;
-  lin.tangent(r, A);
+  lin.tangent(r, 3, A);
   EXPECT_EQ(A, D);
 }

@@ -34,7 +34,7 @@ double axial_modulus(const Material& m) {
   MaterialResponse r;
   m.update(Mat3::Identity(), Mat3::Zero(), r);
   Mat9 A;
-  m.tangent(r, A);
+  m.tangent(r, 1, A);
   return A(0, 0);
 }
 /// sigma_p = law(eps_p): the constitutive update at every point (axial strain only).

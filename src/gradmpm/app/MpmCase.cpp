@@ -422,7 +422,7 @@ std::string column_check(const Model<dim>& m, const fs::path& dir, bool plot) {
   MaterialResponse r;
   mat->update(Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Zero(), r);
   Mat9 A;
-  mat->tangent(r, A);
+  mat->tangent(r, dim, A);
   const analytic::Column col{top - base, mat->density, -m.gravity[dim - 1], A(3 * (dim - 1) + dim - 1, 3 * (dim - 1) + dim - 1)};
   std::vector<double> Y, s, se, y, ye;
   double err_s = 0, err_y = 0;

@@ -83,7 +83,7 @@ void Hencky::update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out)
   out.directions = n;
 }
 
-void Hencky::tangent(const MaterialResponse& r, Mat9& A) const {
+void Hencky::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
   // A = 1/2 D : L : B - tau_il d_jk (L = d ln b / d b, B = d b / d g), written in the
   // principal frame n_a of b, where L and B are diagonal and D stays isotropic. With
   // P_ab = n_a (x) n_b, theta_ab the divided difference of ln and tau_a = n_a.tau.n_a:
@@ -117,9 +117,17 @@ void Hencky::tangent(const MaterialResponse& r, Mat9& A) const {
       U.col(t + 1) = pba;
       W.col(t + 1) = mu_ * theta * lam[a] * pba + e * pab;
     }
-  A.noalias() = U.lazyProduct(W.transpose());
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) A(at(i, i), at(k, k)) += lambda_;
+  if (dim == 3) {
+    A.noalias() = U.lazyProduct(W.transpose());
+  } else {  // the in-plane block only: dim^4 of the 81 entries
+    A.setZero();
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j)
+        for (int k = 0; k < dim; ++k)
+          for (int l = 0; l < dim; ++l) A(at(i, j), at(k, l)) = U.row(at(i, j)).dot(W.row(at(k, l)));
+  }
+  for (int i = 0; i < dim; ++i)
+    for (int k = 0; k < dim; ++k) A(at(i, i), at(k, k)) += lambda_;
 }
 
 }  // namespace gradmpm

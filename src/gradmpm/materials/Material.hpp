@@ -36,7 +36,9 @@ class Material {
   virtual void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const = 0;
   /// The consistent tangent at the state `r` that update() returned:
   /// A_ijkl with d(stress_ij grad_j eta_i) = grad_j eta_i A_ijkl grad_l du_k.
-  virtual void tangent(const MaterialResponse& r, Mat9& A) const = 0;
+  /// Entries with every index below `dim` are computed (plane strain and 1D need no
+  /// more); a material may leave the others zero. dim = 3 gives the whole tensor.
+  virtual void tangent(const MaterialResponse& r, int dim, Mat9& A) const = 0;
   virtual std::string name() const = 0;
 
   /// Isotropic elasticity D : eps (lambda tr eps I + 2 mu eps) and its inverse. The
@@ -60,7 +62,7 @@ class LinearElastic final : public Material {
   LinearElastic(double young, double poisson, double rho);
   bool finite_strain() const override { return false; }
   void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const override;
-  void tangent(const MaterialResponse&, Mat9& A) const override { A = D_; }
+  void tangent(const MaterialResponse&, int, Mat9& A) const override { A = D_; }
   std::string name() const override { return "linear-elastic"; }
 
  private:
@@ -75,7 +77,7 @@ class Hencky final : public Material {
   Hencky(double young, double poisson, double rho);
   bool finite_strain() const override { return true; }
   void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const override;
-  void tangent(const MaterialResponse& r, Mat9& A) const override;
+  void tangent(const MaterialResponse& r, int dim, Mat9& A) const override;
   std::string name() const override { return "hencky"; }
 
  private:

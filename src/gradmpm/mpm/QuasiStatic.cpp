@@ -139,7 +139,7 @@ class LoadStep {
       // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
       const auto& G = grads_[p];
       Mat9 A;
-      model_.materials[model_.points.material[p]]->tangent(response_[p], A);
+      model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
       const double w = weights_[p];
       for (int b = 0; b < s.count; ++b) {
         double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
