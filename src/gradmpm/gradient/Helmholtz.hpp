@@ -42,6 +42,9 @@ class HelmholtzSmoother {
   /// of field j (Assembler::load_columns); one solve sweep serves all.
   Eigen::MatrixXd smooth_loads(const Eigen::MatrixXd& f) const { return solver_.solve(f); }
 
+  /// Seconds its sparse solver has taken in factorisation and solves (not the analysis).
+  double solver_seconds() const { return solver_.seconds(); }
+
   /// Smooths a nodal field (u-RA: a displacement component): f_i = sum_p N_i c(x_p) V_p,
   /// which is M c with M integrated by the points.
   Vector smooth_nodal_field(const Vector& c, const std::vector<double>& dirichlet_values = {}) const {

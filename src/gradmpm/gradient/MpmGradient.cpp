@@ -75,6 +75,15 @@ class SmoothingContext {
     return sm->smooth_point_field(c, values);
   }
 
+  /// Seconds the sparse solvers of this context have taken.
+  double solver_seconds() const {
+    double t = 0.0;
+    for (const auto* sm : {natural_.get(), projector_.get()})
+      if (sm) t += sm->solver_seconds();
+    for (const auto& [dofs, sm] : by_constraints_) t += sm->solver_seconds();
+    return t;
+  }
+
   /// Point values and gradients (at the points) of a nodal scalar field.
   void interpolate(const Vector& nodal, std::vector<double>& value, std::vector<Vec<dim>>& gradient) const {
     value.assign(st_.size(), 0.0);
@@ -132,7 +141,9 @@ Mat3 sym(const Mat3& g) { return 0.5 * (g + g.transpose()); }
 /// or strain from stress (s-RA), with the material's elasticity.
 template <int dim>
 void complete(const Model<dim>& m, GradientVariant v, EnrichedFields<dim>& f) {
-  for (int p = 0; p < m.points.size(); ++p) {
+  const int np = m.points.size();
+#pragma omp parallel for schedule(static)
+  for (int p = 0; p < np; ++p) {
     const Material& mat = *m.materials[m.points.material[p]];
     const double J = stress_jacobian(m, p);
     if (v == GradientVariant::S_RA)
@@ -177,6 +188,7 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
       break;
   }
   complete(m, s.variant, f);
+  f.solver_seconds = ctx.solver_seconds();
   return f;
 }
 

@@ -48,6 +48,7 @@ struct EnrichedFields {
   std::vector<Vec<dim>> displacement;  ///< u_g (total)
   std::vector<Mat3> strain;            ///< eps_g (small-strain measure)
   std::vector<Mat3> stress;            ///< sigma_g (Cauchy)
+  double solver_seconds = 0.0;         ///< of the time it took, the sparse factorisations and solves
   void resize(int n) {
     displacement.assign(n, Vec<dim>::Zero());
     strain.assign(n, Mat3::Zero());

@@ -27,14 +27,15 @@ using PointStencils = std::vector<Stencil<dim>>;
 /// points outside the grid (for GIMP: whose domain leaves the grid).
 template <int dim, class Basis>
 PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points) {
-  PointStencils<dim> st(points.size());
+  const int np = points.size();
+  PointStencils<dim> st(np);
+  std::vector<char> ok(np);
+#pragma omp parallel for schedule(static)
+  for (int p = 0; p < np; ++p) ok[p] = Basis::evaluate(grid, points.position[p], points.half_length[p], st[p]);
   std::string outside;
   int n_outside = 0;
-  for (int p = 0; p < points.size(); ++p) {
-    if (!Basis::evaluate(grid, points.position[p], points.half_length[p], st[p])) {
-      if (n_outside++ < 20) outside += (outside.empty() ? "" : ", ") + std::to_string(p);
-    }
-  }
+  for (int p = 0; p < np; ++p)
+    if (!ok[p] && n_outside++ < 20) outside += (outside.empty() ? "" : ", ") + std::to_string(p);
   if (n_outside > 0)
     throw std::out_of_range(std::to_string(n_outside) + " material point(s) outside the grid (ids): " +
                             outside + (n_outside > 20 ? ", ..." : ""));

@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
+#include <chrono>
 #include <cmath>
 #include <fmt/format.h>
 #include <omp.h>
@@ -29,6 +30,19 @@ class CholmodThreadCap {
  private:
   int previous_;
 };
+
+/// Adds the lifetime of the scope to a running total of seconds.
+class ScopedSeconds {
+ public:
+  explicit ScopedSeconds(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~ScopedSeconds() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  ScopedSeconds(const ScopedSeconds&) = delete;
+  ScopedSeconds& operator=(const ScopedSeconds&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
 }  // namespace
 
 struct SpdSolver::Impl {
@@ -52,6 +66,7 @@ std::string_view SpdSolver::name(Backend b) {
 }
 
 void SpdSolver::analyze(const SparseMatrix& A) {
+  ScopedSeconds timer(analysis_seconds_);
   if (backend_ == Backend::Cholmod) {
     CholmodThreadCap cap;
     impl_->cholmod.analyzePattern(A);
@@ -65,6 +80,7 @@ void SpdSolver::analyze(const SparseMatrix& A) {
 
 void SpdSolver::factorize(const SparseMatrix& A) {
   if (!analyzed_) analyze(A);
+  ScopedSeconds timer(seconds_);
   Eigen::ComputationInfo info;
   if (backend_ == Backend::Cholmod) {
     CholmodThreadCap cap;
@@ -97,6 +113,7 @@ void SpdSolver::compute(const SparseMatrix& A) {
 }
 
 Vector SpdSolver::solve(const Vector& b) const {
+  ScopedSeconds timer(seconds_);
   if (!factorized_) throw SolverError("SpdSolver::solve called before factorize");
   if (backend_ == Backend::PCG) {
     Vector x = impl_->pcg.solve(b);
@@ -121,6 +138,7 @@ Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
     return X;
   }
   if (!factorized_) throw SolverError("SpdSolver::solve called before factorize");
+  ScopedSeconds timer(seconds_);
   CholmodThreadCap cap;
   Eigen::MatrixXd X = backend_ == Backend::Cholmod ? Eigen::MatrixXd(impl_->cholmod.solve(B))
                                                    : Eigen::MatrixXd(impl_->ldlt.solve(B));

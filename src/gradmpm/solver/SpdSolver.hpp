@@ -37,6 +37,9 @@ class SpdSolver {
   int pcg_max_iterations = 0;  ///< 0: scaled to the problem, max(200, 20 sqrt(n))
 
   Backend backend() const { return backend_; }
+  /// Wall-clock seconds spent so far in factorize and solve, and in analyze.
+  double seconds() const { return seconds_; }
+  double analysis_seconds() const { return analysis_seconds_; }
 
   /// x = A^{-1} b for a general (e.g. indefinite) square A by sparse LU; throws
   /// SolverError if A is singular. For the occasional tangent that is not positive definite.
@@ -49,6 +52,8 @@ class SpdSolver {
   std::unique_ptr<Impl> impl_;
   bool analyzed_ = false;
   bool factorized_ = false;
+  mutable double seconds_ = 0.0;
+  double analysis_seconds_ = 0.0;
 };
 
 }  // namespace gradmpm
