@@ -1,7 +1,9 @@
 // bench_mpm: what one Newton iteration of the implicit MPM costs, phase by phase, as the
 // problem grows (docs/performance.md). Never part of the tests.
 //
-//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE]
+//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME]
+//   (--solver: the case files' nonlinear_solver.linear_solver, cholmod by default; with
+//   pcg, factor_s is the incomplete-Cholesky preconditioner and solve_s the CG iterations)
 //   (--only runs one size of one case, e.g. column_2d:224 or footing_2d:4, for profiling)
 //
 // Cases (built from case-file text, so they are the code paths users run):
@@ -146,7 +148,8 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   }
   const auto t0 = std::chrono::steady_clock::now();
   const double gradient_solver_s =
-      smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid}).solver_seconds;
+      smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver})
+          .solver_seconds;
   const double gradient_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const PhaseTimes& t = first.phases;
   const double its = std::max(1, t.iterations);
@@ -178,13 +181,15 @@ int main(int argc, char** argv) {
   int threads = omp_get_max_threads();
   std::string csv_path = "bench-results.csv";
   std::string only;  // "case:size"
+  std::string solver = "cholmod";
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--solver") && i + 1 < argc) solver = argv[++i];
     else {
-      fmt::print(stderr, "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE]\n");
+      fmt::print(stderr, "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME]\n");
       return 2;
     }
   }
@@ -213,8 +218,9 @@ int main(int argc, char** argv) {
     n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
   }
-  for (int n : n2) bench<2>("column_2d", CaseFile::parse(column_2d(n), "column_2d"), csv, threads);
-  for (int n : n3) bench<3>("column_3d", CaseFile::parse(column_3d(n), "column_3d"), csv, threads);
+  const std::string solver_key = fmt::format("nonlinear_solver.linear_solver=\"{}\"", solver);
+  for (int n : n2) bench<2>("column_2d", CaseFile::parse(column_2d(n), "column_2d", {solver_key}), csv, threads);
+  for (int n : n3) bench<3>("column_3d", CaseFile::parse(column_3d(n), "column_3d", {solver_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";
   for (int r : refine) {
     const double h = 0.125 / r;
@@ -224,7 +230,7 @@ int main(int argc, char** argv) {
                                       fmt::format("constraints[0].min=[{},{}]", -h, -2 * h),
                                       fmt::format("constraints[1].min=[{},{}]", -h, -2 * h),
                                       fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
-                                      fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0"}),
+                                      fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0", solver_key}),
              csv, threads);
   }
   fmt::print("wrote {}\n", csv_path);

@@ -5,6 +5,9 @@
 //     ((eps1 - eps2) * height), which is l for l << L in the 1D theory.
 //  R2 plate with a sharp V-notch in tension: the classical peak strain grows without
 //     bound under refinement (the notch-tip singularity), the e-RA peak converges.
+//  R4 with nonlinear_solver.linear_solver = "pcg" the classical solve and the gradient
+//     step (u-RA with its Dirichlet nodes, e-RA, s-RA) use conjugate gradients and give the
+//     direct solver's fields to 1e-8;
 //  R3 (1D, large deformation) the paper's questions: on a bi-material Hencky column
 //     (up to 48 % compression), e-RA applied once at the end to the total field (fields = grid)
 //     converges to a fine single-step reference; increments smoothed after every step and
@@ -141,6 +144,24 @@ apply = "end"
                      -h, h, n + 2, n + 2);
 }
 }  // namespace
+
+TEST(MpmGradient2D, IterativeSolverGivesTheDirectSolversEnrichedFields) {
+  for (const char* variant : {"u-RA", "e-RA", "s-RA"}) {
+    const std::vector<std::string> sets = {fmt::format("gradient.variant=\"{}\"", variant)};
+    std::vector<std::string> pcg = sets;
+    pcg.push_back("nonlinear_solver.linear_solver=\"pcg\"");
+    const Result direct = run_text(plate(1.0 / 32, 0.1), sets), iterative = run_text(plate(1.0 / 32, 0.1), pcg);
+    double scale = 0.0, diff = 0.0, udiff = 0.0;
+    for (int p = 0; p < direct.model.points.size(); ++p) {
+      scale = std::max(scale, direct.fields.strain[p].cwiseAbs().maxCoeff());
+      diff = std::max(diff, (direct.fields.strain[p] - iterative.fields.strain[p]).cwiseAbs().maxCoeff());
+      udiff = std::max(udiff, (direct.fields.displacement[p] - iterative.fields.displacement[p]).cwiseAbs().maxCoeff());
+    }
+    std::printf("%s: max strain difference pcg - cholmod %.2e (of %.2e), displacement %.2e\n", variant, diff, scale, udiff);
+    EXPECT_LT(diff, 1e-8 * scale) << variant;
+    EXPECT_LT(udiff, 1e-8 * 1e-3) << variant;
+  }
+}
 
 TEST(MpmGradient2D, NotchPeakStrainDivergesClassicallyAndConvergesWithERA) {
   std::vector<double> classical, gradient;

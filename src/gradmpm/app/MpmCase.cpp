@@ -269,6 +269,7 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   newton.linear_solver = linear == "cholmod"      ? SpdSolver::Backend::Cholmod
                          : linear == "eigen-ldlt" ? SpdSolver::Backend::EigenLDLT
                                                   : SpdSolver::Backend::PCG;
+  if (gradient) gradient->linear_solver = newton.linear_solver;
 
   const long long every = cf.integer_or("output.vtk_every", 1);
   cf.require(every >= 0, "output.vtk_every", "an integer >= 0 (0: no VTK output)");

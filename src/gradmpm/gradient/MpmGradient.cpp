@@ -23,9 +23,10 @@ constexpr int kSym[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 template <int dim>
 class SmoothingContext {
  public:
-  SmoothingContext(const Model<dim>& m, double l)
+  SmoothingContext(const Model<dim>& m, double l, SpdSolver::Backend backend)
       : model_(m),
         l_(l),
+        backend_(backend),
         st_(evaluate_stencils(m.grid, m.points, m.basis)),
         dofs_(st_, m.grid.num_nodes(), 1),
         pattern_(build_pattern(st_, dofs_)),
@@ -40,7 +41,7 @@ class SmoothingContext {
     for (const auto& ij : kSym)
       if (ij[0] == ij[1] || (ij[0] < dim && ij[1] < dim)) comps.push_back({ij[0], ij[1]});
     const int nc = static_cast<int>(comps.size());
-    if (!natural_) natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_);
+    if (!natural_) natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_);
     const Eigen::MatrixXd G =
         natural_->smooth_loads(assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); }));
     std::vector<Mat3> out(t.size(), Mat3::Zero());
@@ -66,12 +67,12 @@ class SmoothingContext {
     dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
     std::vector<double> values;
     if (!dofs.empty()) {
-      if (!projector_) projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0);
+      if (!projector_) projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_);
       const Vector projected = projector_->smooth_point_field(c);
       for (int d : dofs) values.push_back(projected[d]);
     }
     auto& sm = by_constraints_[dofs];
-    if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs);
+    if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs, backend_);
     return sm->smooth_point_field(c, values);
   }
 
@@ -99,6 +100,7 @@ class SmoothingContext {
  private:
   const Model<dim>& model_;
   double l_;
+  SpdSolver::Backend backend_;
   PointStencils<dim> st_;
   DofMap dofs_;
   SparseMatrix pattern_;
@@ -168,7 +170,7 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
     f.stress = m.points.stress;
     return f;
   }
-  SmoothingContext<dim> ctx(m, s.length_scale);
+  SmoothingContext<dim> ctx(m, s.length_scale, s.linear_solver);
   switch (s.variant) {
     case GradientVariant::U_RA: {
       std::vector<Mat3> grad;
@@ -212,7 +214,7 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
     fields_.strain = m.points.strain;
     fields_.stress = m.points.stress;
   } else {
-    SmoothingContext<dim> ctx(m, settings_.length_scale);
+    SmoothingContext<dim> ctx(m, settings_.length_scale, settings_.linear_solver);
     if (v == GradientVariant::U_RA) {
       std::vector<Vec<dim>> du(n), dug;
       std::vector<Mat3> grad;

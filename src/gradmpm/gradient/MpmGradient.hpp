@@ -29,6 +29,7 @@
 
 #include "gradmpm/gradient/Variant.hpp"
 #include "gradmpm/mpm/Model.hpp"
+#include "gradmpm/solver/SpdSolver.hpp"
 
 namespace gradmpm {
 
@@ -40,6 +41,9 @@ struct GradientSettings {
   double length_scale = 0.0;
   GradientApply apply = GradientApply::EachStep;
   GradientFields fields = GradientFields::Points;
+  /// Solver of the Helmholtz systems: the case's nonlinear_solver.linear_solver, so that
+  /// a problem too large to factorise is not factorised by its gradient step either.
+  SpdSolver::Backend linear_solver = SpdSolver::Backend::Cholmod;
 };
 
 /// The enriched fields at every material point.

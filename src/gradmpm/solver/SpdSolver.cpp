@@ -49,6 +49,7 @@ struct SpdSolver::Impl {
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> cholmod;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> pcg;
+  SparseMatrix pcg_matrix;  ///< CG keeps a reference to its matrix: it must outlive factorize()'s argument
 };
 
 SpdSolver::SpdSolver(Backend backend) : backend_(backend), impl_(std::make_unique<Impl>()) {
@@ -72,8 +73,10 @@ void SpdSolver::analyze(const SparseMatrix& A) {
     impl_->cholmod.analyzePattern(A);
   } else if (backend_ == Backend::EigenLDLT)
     impl_->ldlt.analyzePattern(A);
-  else
-    impl_->pcg.analyzePattern(A);
+  else {
+    impl_->pcg_matrix = A;
+    impl_->pcg.analyzePattern(impl_->pcg_matrix);
+  }
   analyzed_ = true;
   factorized_ = false;
 }
@@ -87,7 +90,8 @@ void SpdSolver::factorize(const SparseMatrix& A) {
     impl_->cholmod.factorize(A);
     info = impl_->cholmod.info();
   } else if (backend_ == Backend::PCG) {
-    impl_->pcg.factorize(A);  // the incomplete Cholesky preconditioner
+    impl_->pcg_matrix = A;
+    impl_->pcg.factorize(impl_->pcg_matrix);  // the incomplete Cholesky preconditioner
     info = impl_->pcg.info();
     const int n = static_cast<int>(A.rows());
     impl_->pcg.setTolerance(pcg_tolerance);
