@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
   fmt::print("bench_mpm: {} thread(s), {} sweep; seconds per Newton iteration\n", threads, quick ? "quick" : "full");
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
-  std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24, 34};
+  std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};
   std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8};
   if (!only.empty()) {
     const auto colon = only.find(':');

@@ -100,3 +100,25 @@ TEST(Transfer, PointsOutsideTheGridAreListed) {
     EXPECT_NE(std::string(e.what()).find("2 material point(s) outside the grid (ids): 1, 2"), std::string::npos) << e.what();
   }
 }
+
+// Requirement: a GIMP domain stretched wider than a cell (cpGIMP) is named as such, not
+// reported as a point outside the grid.
+TEST(Transfer, GimpDomainsWiderThanACellAreNamed) {
+  const Grid<1> grid(Vec<1>(0.0), Vec<1>(1.0), {6});
+  MaterialPoints<1> pts;
+  pts.add(Vec<1>(2.5), 1.0, 0);
+  pts.add(Vec<1>(3.5), 1.0, 0);
+  pts.add(Vec<1>(-0.5), 1.0, 0);
+  pts.half_length[0] = Vec<1>(0.25);
+  pts.half_length[1] = Vec<1>(0.6);  // wider than h / 2
+  pts.half_length[2] = Vec<1>(0.25);
+  try {
+    evaluate_stencils<1, GimpBasis<1>>(grid, pts);
+    FAIL() << "expected std::out_of_range";
+  } catch (const std::out_of_range& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("1 material point(s) outside the grid (ids): 2"), std::string::npos) << what;
+    EXPECT_NE(what.find("1 material point(s) whose GIMP domain is wider than a grid cell (ids): 1"), std::string::npos)
+        << what;
+  }
+}

@@ -8,6 +8,7 @@
 //    are constant per element, gives the average of the two neighbouring elements.
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "gradmpm/basis/BasisKind.hpp"
@@ -24,7 +25,8 @@ template <int dim>
 using PointStencils = std::vector<Stencil<dim>>;
 
 /// Evaluates `Basis` at every point. Throws std::out_of_range listing the ids of
-/// points outside the grid (for GIMP: whose domain leaves the grid).
+/// points outside the grid (for GIMP: whose domain leaves the grid) and, for GIMP, of
+/// points whose domain has grown wider than a cell (cpGIMP under large stretch).
 template <int dim, class Basis>
 PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points) {
   const int np = points.size();
@@ -32,13 +34,29 @@ PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints
   std::vector<char> ok(np);
 #pragma omp parallel for schedule(static)
   for (int p = 0; p < np; ++p) ok[p] = Basis::evaluate(grid, points.position[p], points.half_length[p], st[p]);
-  std::string outside;
-  int n_outside = 0;
-  for (int p = 0; p < np; ++p)
-    if (!ok[p] && n_outside++ < 20) outside += (outside.empty() ? "" : ", ") + std::to_string(p);
-  if (n_outside > 0)
-    throw std::out_of_range(std::to_string(n_outside) + " material point(s) outside the grid (ids): " +
-                            outside + (n_outside > 20 ? ", ..." : ""));
+  struct IdList {
+    int count = 0;
+    std::string ids;
+    void add(int p) {
+      if (count++ < 20) ids += (ids.empty() ? "" : ", ") + std::to_string(p);
+    }
+    std::string text() const { return ids + (count > 20 ? ", ..." : ""); }
+  } outside, too_wide;
+  for (int p = 0; p < np; ++p) {
+    if (ok[p]) continue;
+    bool wide = false;
+    if constexpr (std::is_same_v<Basis, GimpBasis<dim>>)
+      for (int d = 0; d < dim; ++d) wide = wide || points.half_length[p][d] > 0.5 * grid.cell_size()[d];
+    (wide ? too_wide : outside).add(p);
+  }
+  std::string message;
+  if (outside.count > 0)
+    message = std::to_string(outside.count) + " material point(s) outside the grid (ids): " + outside.text();
+  if (too_wide.count > 0)
+    message += (message.empty() ? "" : "; ") + std::to_string(too_wide.count) +
+               " material point(s) whose GIMP domain is wider than a grid cell (ids): " + too_wide.text() +
+               " (cpGIMP domains stretch with the body: use more points per cell or uGIMP)";
+  if (!message.empty()) throw std::out_of_range(message);
   return st;
 }
 
