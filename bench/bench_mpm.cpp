@@ -166,10 +166,10 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
                   gradient_s, peak_mib());
   csv << row << "\n";
   csv.flush();
-  fmt::print("{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
+  fmt::print("{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
              "factor {:.4f}  solve {:.4f}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
              "with gradient {:.2f}\n",
-             name, first.dofs, m.points.size(), first.nonzeros, t.iterations, pattern, assembly, analysis, factor, solve,
+             name, first.dofs, m.points.size(), first.nonzeros, t.iterations, first.cuts, pattern, assembly, analysis, factor, solve,
              update, gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
   std::fflush(stdout);
 }
