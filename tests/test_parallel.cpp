@@ -1,7 +1,9 @@
 // Requirement (performance issue): multithreaded assembly gives the same operators and
 // the same MPM solution as the single-threaded one. Points are scattered by colour
 // (Assembler::for_each_point_disjoint), so every nodal sum is formed in the same order
-// whatever the thread count: the results are identical bit for bit.
+// whatever the thread count: the results are identical bit for bit. The threshold below
+// which loops stay serial (core/Parallel.hpp) is lowered so that these small models run
+// on threads; a counter checks that more than one thread took part.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -14,10 +16,16 @@ using namespace gradmpm;
 using namespace gradmpm::test;
 
 namespace {
-struct Threads {  // sets the OpenMP thread count for a scope
-  int saved;
-  explicit Threads(int n) : saved(omp_get_max_threads()) { omp_set_num_threads(n); }
-  ~Threads() { omp_set_num_threads(saved); }
+struct Threads {  // sets the OpenMP thread count and the threading threshold for a scope
+  int saved, saved_min;
+  explicit Threads(int n) : saved(omp_get_max_threads()), saved_min(min_points_for_threads()) {
+    omp_set_num_threads(n);
+    min_points_for_threads() = 1;
+  }
+  ~Threads() {
+    omp_set_num_threads(saved);
+    min_points_for_threads() = saved_min;
+  }
 };
 }  // namespace
 
@@ -43,6 +51,25 @@ TEST(Parallel, AssemblyEqualsSerialAssembly) {
   const Eigen::Map<const Vector> a(serial.valuePtr(), serial.nonZeros()), b(threaded.valuePtr(), threaded.nonZeros());
   EXPECT_EQ((a - b).lpNorm<Eigen::Infinity>(), 0.0);
   EXPECT_GT(a.lpNorm<Eigen::Infinity>(), 0.0);
+}
+
+TEST(Parallel, SmallLoopsRunOnThreadsOnlyAboveTheThreshold) {
+  const Model<2> m = make_column<2>(16, BasisKind::CPGIMP);
+  const auto st = evaluate_stencils(m.grid, m.points, BasisKind::CPGIMP);
+  const DofMap dofs(st, m.grid.num_nodes(), 1);
+  const Assembler<2> as(st, m.points, dofs, &m.grid);
+  auto team_sizes = [&] {
+    int most = 0;
+    as.for_each_point_disjoint([&](int) {
+#pragma omp critical
+      most = std::max(most, omp_get_num_threads());
+    });
+    return most;
+  };
+  ASSERT_LT(m.points.size(), min_points_for_threads());
+  EXPECT_EQ(team_sizes(), 1);  // below the threshold: serial
+  Threads t(4);
+  EXPECT_EQ(team_sizes(), 4);
 }
 
 TEST(Parallel, MpmSolutionEqualsSerialSolution) {

@@ -1,3 +1,4 @@
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/gradient/MpmGradient.hpp"
 
 #include <algorithm>
@@ -144,7 +145,7 @@ Mat3 sym(const Mat3& g) { return 0.5 * (g + g.transpose()); }
 template <int dim>
 void complete(const Model<dim>& m, GradientVariant v, EnrichedFields<dim>& f) {
   const int np = m.points.size();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (use_threads(np))
   for (int p = 0; p < np; ++p) {
     const Material& mat = *m.materials[m.points.material[p]];
     const double J = stress_jacobian(m, p);

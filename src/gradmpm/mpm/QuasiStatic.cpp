@@ -1,3 +1,4 @@
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 
 #include <fmt/format.h>
@@ -87,7 +88,7 @@ class LoadStep {
     weights_.resize(np);
     int inverted = -1;
     double inverted_det = 0.0;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
       const Mat3 dF = Mat3::Identity() + increment_gradient(s, dofs_, du);

@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/basis/BasisKind.hpp"
 #include "gradmpm/basis/GimpBasis.hpp"
 #include "gradmpm/basis/LinearBasis.hpp"
@@ -32,7 +33,7 @@ PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints
   const int np = points.size();
   PointStencils<dim> st(np);
   std::vector<char> ok(np);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (use_threads(np))
   for (int p = 0; p < np; ++p) ok[p] = Basis::evaluate(grid, points.position[p], points.half_length[p], st[p]);
   struct IdList {
     int count = 0;

@@ -6,6 +6,7 @@
 #include <array>
 #include <limits>
 
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/solver/SparsePattern.hpp"
 
 namespace gradmpm {
@@ -43,7 +44,7 @@ class Assembler {
     }
     for (const auto& buckets : colours_) {
       const int nb = static_cast<int>(buckets.size());
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for schedule(dynamic, 16) if (use_threads(points_.size()))
       for (int b = 0; b < nb; ++b)
         for (int p : buckets[b]) f(p);
     }
@@ -144,7 +145,7 @@ class Assembler {
   template <class Out>
   void interpolate_columns(const Eigen::MatrixXd& G, Out&& out) const {
     const int np = points_.size(), ncols = static_cast<int>(G.cols());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
       for (int j = 0; j < ncols; ++j) {
