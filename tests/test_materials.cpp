@@ -12,7 +12,8 @@
 //  R5 the plane (dim = 2) and uniaxial (dim = 1) tangents are the in-plane blocks of
 //     the full one;
 //  R6 the Hencky stress is D : (1/2 ln b_e) exactly, b_e = dF exp(2 eps_n) dF^T, and
-//     the returned strain is the history the next step starts from.
+//     the returned strain is the history the next step starts from;
+//  R7 linear elasticity accumulates eps_n + sym(dF - I), returns D : eps and the tangent D.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
