@@ -25,9 +25,11 @@
 // step after the load step (apply = "each_step"), shared out over the step's
 // iterations, its factorisation and solves counted with the solver's.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -40,53 +42,25 @@ using namespace gradmpm;
 
 namespace {
 
-std::string column_2d(int n) {
-  const double h = 10.0 / n;
-  return fmt::format(R"(
-[grid]
-origin = [{0}, {0}]
-cell_size = {1}
-cells = [{2}, {2}]
-[basis]
-type = "cpgimp"
-[materials.soil]
-model = "hencky"
-young = 1000.0
-poisson = 0.3
-density = 1.0
-[[bodies]]
-material = "soil"
-min = [0.0, 0.0]
-max = [10.0, 10.0]
-[loads]
-gravity = [0.0, -10.0]
-[[constraints]]
-min = [{0}, {0}]
-max = [20.0, 0.0]
-fix = ["x", "y"]
-[[constraints]]
-min = [{0}, {0}]
-max = [0.0, 20.0]
-fix = ["x"]
-[[constraints]]
-min = [10.0, {0}]
-max = [20.0, 20.0]
-fix = ["x"]
-[load_steps]
-count = 10
-[output]
-vtk_every = 0
-)",
-                     -h, h, n + 2);
+/// "[v0, v1]" or "[v0, v1, v2]": the first dim entries.
+std::string point(int dim, std::array<double, 3> v) {
+  std::vector<double> first(v.begin(), v.begin() + dim);
+  return fmt::format("[{}]", fmt::join(first, ", "));
 }
 
-std::string column_3d(int n) {
-  const double h = 10.0 / n;
-  return fmt::format(R"(
+/// A block of side 10 under self-weight (Hencky, nu = 0.3, cpGIMP), n cells per side and
+/// one cell of margin around it: the base held, each lateral face on rollers.
+std::string column(int dim, int n) {
+  const double h = 10.0 / n, lo = -h;
+  const std::vector<int> cells(dim, n + 2);
+  const std::array<char, 3> axis{'x', 'y', 'z'};
+  std::vector<std::string> all_axes;
+  for (int d = 0; d < dim; ++d) all_axes.push_back(fmt::format("\"{}\"", axis[d]));
+  std::string t = fmt::format(R"(
 [grid]
-origin = [{0}, {0}, {0}]
-cell_size = {1}
-cells = [{2}, {2}, {2}]
+origin = {}
+cell_size = {}
+cells = [{}]
 [basis]
 type = "cpgimp"
 [materials.soil]
@@ -96,36 +70,27 @@ poisson = 0.3
 density = 1.0
 [[bodies]]
 material = "soil"
-min = [0.0, 0.0, 0.0]
-max = [10.0, 10.0, 10.0]
+min = {}
+max = {}
 [loads]
-gravity = [0.0, 0.0, -10.0]
-[[constraints]]
-min = [{0}, {0}, {0}]
-max = [20.0, 20.0, 0.0]
-fix = ["x", "y", "z"]
-[[constraints]]
-min = [{0}, {0}, {0}]
-max = [0.0, 20.0, 20.0]
-fix = ["x"]
-[[constraints]]
-min = [10.0, {0}, {0}]
-max = [20.0, 20.0, 20.0]
-fix = ["x"]
-[[constraints]]
-min = [{0}, {0}, {0}]
-max = [20.0, 0.0, 20.0]
-fix = ["y"]
-[[constraints]]
-min = [{0}, 10.0, {0}]
-max = [20.0, 20.0, 20.0]
-fix = ["y"]
-[load_steps]
-count = 10
-[output]
-vtk_every = 0
+gravity = {}
 )",
-                     -h, h, n + 2);
+                              point(dim, {lo, lo, lo}), h, fmt::join(cells, ", "), point(dim, {0.0, 0.0, 0.0}),
+                              point(dim, {10.0, 10.0, 10.0}), point(dim, {0.0, dim == 2 ? -10.0 : 0.0, -10.0}));
+  auto constraint = [&](std::array<double, 3> min, std::array<double, 3> max, const std::string& fix) {
+    t += fmt::format("[[constraints]]\nmin = {}\nmax = {}\nfix = [{}]\n", point(dim, min), point(dim, max), fix);
+  };
+  std::array<double, 3> base_max{20.0, 20.0, 20.0};
+  base_max[dim - 1] = 0.0;
+  constraint({lo, lo, lo}, base_max, fmt::format("{}", fmt::join(all_axes, ", ")));
+  for (int d = 0; d + 1 < dim; ++d) {  // rollers on the two faces normal to d
+    std::array<double, 3> max{20.0, 20.0, 20.0}, min{lo, lo, lo};
+    max[d] = 0.0;
+    constraint({lo, lo, lo}, max, all_axes[d]);
+    min[d] = 10.0;
+    constraint(min, {20.0, 20.0, 20.0}, all_axes[d]);
+  }
+  return t + "[load_steps]\ncount = 10\n[output]\nvtk_every = 0\n";
 }
 
 double peak_mib() {
@@ -227,8 +192,8 @@ int main(int argc, char** argv) {
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
   }
   const std::string solver_key = fmt::format("nonlinear_solver.linear_solver=\"{}\"", solver);
-  for (int n : n2) bench<2>("column_2d", CaseFile::parse(column_2d(n), "column_2d", {solver_key}), csv, threads);
-  for (int n : n3) bench<3>("column_3d", CaseFile::parse(column_3d(n), "column_3d", {solver_key}), csv, threads);
+  for (int n : n2) bench<2>("column_2d", CaseFile::parse(column(2, n), "column_2d", {solver_key}), csv, threads);
+  for (int n : n3) bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";
   for (int r : refine) {
     const double h = 0.125 / r;

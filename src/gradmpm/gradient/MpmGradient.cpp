@@ -1,4 +1,3 @@
-#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/gradient/MpmGradient.hpp"
 
 #include <algorithm>
@@ -6,6 +5,7 @@
 #include <map>
 #include <memory>
 
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
 #include "gradmpm/points/Transfer.hpp"
 

@@ -99,18 +99,18 @@ void Hencky::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
       for (int j = 0; j < 3; ++j) v[at(i, j)] = n(i, a) * n(j, b);
     return v;
   };
+  Eigen::Vector3d tau;  // principal Kirchhoff stresses
+  for (int a = 0; a < 3; ++a) tau[a] = n.col(a).dot(r.stress * n.col(a));
   Mat9 U, W;  // A = lambda I(x)I + U W^T, column t of U and W one rank-one term
   for (int a = 0; a < 3; ++a) {
-    const double tau_a = n.col(a).dot(r.stress * n.col(a));
     U.col(a) = P(a, a);
-    W.col(a) = (2.0 * mu_ - tau_a) * U.col(a);
+    W.col(a) = (2.0 * mu_ - tau[a]) * U.col(a);
   }
   int t = 3;
   for (int a = 0; a < 3; ++a)
     for (int b = a + 1; b < 3; ++b, t += 2) {
       const double theta = log_divided_difference(lam[a], lam[b]);
-      const double tau_a = n.col(a).dot(r.stress * n.col(a));
-      const double e = mu_ * theta * lam[a] - tau_a;
+      const double e = mu_ * theta * lam[a] - tau[a];
       const auto pab = P(a, b), pba = P(b, a);
       U.col(t) = pab;
       W.col(t) = mu_ * theta * lam[b] * pab + e * pba;

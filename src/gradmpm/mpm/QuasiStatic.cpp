@@ -1,4 +1,3 @@
-#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +7,7 @@
 #include <map>
 
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"

@@ -11,11 +11,11 @@
 #include <type_traits>
 #include <vector>
 
-#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/basis/BasisKind.hpp"
 #include "gradmpm/basis/GimpBasis.hpp"
 #include "gradmpm/basis/LinearBasis.hpp"
 #include "gradmpm/basis/Stencil.hpp"
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 

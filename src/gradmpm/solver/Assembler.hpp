@@ -104,12 +104,7 @@ class Assembler {
   /// q_p = sum_i N_i(x_p) q_i: a scalar nodal field (equation numbering) at the points (eq. 2).
   std::vector<double> interpolate(const Vector& nodal) const {
     std::vector<double> q(points_.size());
-    for (int p = 0; p < points_.size(); ++p) {
-      const Stencil<dim>& s = st_[p];
-      double v = 0.0;
-      for (int a = 0; a < s.count; ++a) v += s.N[a] * nodal[dofs_.dof(s.node[a], 0)];
-      q[p] = v;
-    }
+    interpolate_columns(nodal, [&](int p, int, double v) { q[p] = v; });
     return q;
   }
 
@@ -142,8 +137,8 @@ class Assembler {
 
   /// The nodal fields G (one per column, equation numbering) at every point:
   /// out(p, j, value) receives sum_i N_i(x_p) G(i, j). Threads over points.
-  template <class Out>
-  void interpolate_columns(const Eigen::MatrixXd& G, Out&& out) const {
+  template <class Derived, class Out>
+  void interpolate_columns(const Eigen::MatrixBase<Derived>& G, Out&& out) const {
     const int np = points_.size(), ncols = static_cast<int>(G.cols());
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {

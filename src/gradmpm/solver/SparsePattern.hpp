@@ -23,7 +23,7 @@ SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
   for (const auto& s : st)
     for (int a = 0; a < s.count; ++a) ++first[eq(s.node[a]) + 1];
   for (int e = 0; e < n_active; ++e) first[e + 1] += first[e];
-  std::vector<int> touching(first[n_active]), fill(first.begin(), first.end() - 1);
+  std::vector<int> touching(first[n_active]), fill(first);  // fill[e]: next free slot of node e
   for (int p = 0; p < static_cast<int>(st.size()); ++p)
     for (int a = 0; a < st[p].count; ++a) touching[fill[eq(st[p].node[a])]++] = p;
   // Neighbour equations of each active node.
