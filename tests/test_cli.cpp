@@ -7,44 +7,17 @@
 //    temporaries behind.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include "CliTestUtil.hpp"
 
-namespace fs = std::filesystem;
+using namespace gradmpm::test;
 
 namespace {
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = CliResult;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
+class Cli : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    char tmpl[] = "/tmp/gradmpm-cli-XXXXXX";
-    ASSERT_NE(::mkdtemp(tmpl), nullptr);
-    dir = tmpl;
-  }
-  void TearDown() override { fs::remove_all(dir); }
-
-  Result run(const std::string& args, const std::string& env = "") {
-    const std::string cmd = env + " " + GRADMPM_EXE + " " + args + " >" + (dir / "stdout").string() + " 2>" +
-                            (dir / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    return {WEXITSTATUS(status), slurp(dir / "stdout"), slurp(dir / "stderr")};
-  }
+  Result run(const std::string& args, const std::string& env = "") { return run_gradmpm(args, env); }
   std::string example() const { return std::string(GRADMPM_SOURCE_DIR) + "/examples/bar_bimaterial.toml"; }
-
-  fs::path dir;
 };
 
 int count_lines(const std::string& s) {

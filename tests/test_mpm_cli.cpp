@@ -6,21 +6,11 @@
 //  - a diverging run exits with code 1 and leaves the files of converged steps complete.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include "CliTestUtil.hpp"
 
-namespace fs = std::filesystem;
+using namespace gradmpm::test;
 
 namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::vector<std::vector<double>> rows_of(const std::string& csv, std::string& header) {
   std::istringstream in(csv);
   std::getline(in, header);
@@ -33,21 +23,10 @@ std::vector<std::vector<double>> rows_of(const std::string& csv, std::string& he
   return rows;
 }
 
-class MpmCli : public ::testing::Test {
+class MpmCli : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    char tmpl[] = "/tmp/gradmpm-mpm-XXXXXX";
-    ASSERT_NE(::mkdtemp(tmpl), nullptr);
-    dir = tmpl;
-  }
-  void TearDown() override { fs::remove_all(dir); }
-  int run(const std::string& args) {
-    const std::string cmd = std::string(GRADMPM_EXE) + " run " + args + " >" + (dir / "stdout").string() + " 2>" +
-                            (dir / "stderr").string();
-    return WEXITSTATUS(std::system(cmd.c_str()));
-  }
+  int run(const std::string& args) { return run_gradmpm("run " + args).code; }
   std::string example(const char* name) const { return std::string(GRADMPM_SOURCE_DIR) + "/examples/" + name; }
-  fs::path dir;
 };
 }  // namespace
 

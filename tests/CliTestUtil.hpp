@@ -1,0 +1,49 @@
+#pragma once
+// Shared by the tests that run the real gradmpm binary: a scratch folder per test and
+// a runner that captures the exit code, stdout and stderr.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace gradmpm::test {
+
+namespace fs = std::filesystem;
+
+inline std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct CliResult {
+  int code;
+  std::string out, err;
+};
+
+/// A fresh folder under /tmp for each test, removed afterwards.
+class ScratchDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/gradmpm-test-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir = tmpl;
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  /// Runs `env gradmpm args`, stdout and stderr kept in the scratch folder.
+  CliResult run_gradmpm(const std::string& args, const std::string& env = "") const {
+    const std::string cmd = env + " " + GRADMPM_EXE + " " + args + " >" + (dir / "stdout").string() + " 2>" +
+                            (dir / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    return {WEXITSTATUS(status), slurp(dir / "stdout"), slurp(dir / "stderr")};
+  }
+
+  fs::path dir;
+};
+
+}  // namespace gradmpm::test
