@@ -110,10 +110,10 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   MpmOutputOptions out;
   GradientSettings g;
   Model<dim> m = read_mpm_case<dim>(cf, newton, out, &g);
-  StepInfo first;
+  StepInfo step;
   try {
     run_quasi_static<dim>(m, newton, [&](const Model<dim>&, const StepInfo& info) {
-      first = info;
+      step = info;
       if (info.step == reported_step) throw StopAfterStep{};
     });
   } catch (const StopAfterStep&) {
@@ -123,7 +123,7 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
       smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver})
           .solver_seconds;
   const double gradient_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const PhaseTimes& t = first.phases;
+  const PhaseTimes& t = step.phases;
   const double its = std::max(1, t.iterations);
   const double pattern = t.pattern / its, assembly = t.assembly / its, analysis = t.analysis / its,
                factor = t.factor / its, solve = t.solve / its, update = t.update / its;
@@ -133,15 +133,15 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   const double ratio_g = (pattern + assembly + analysis + update + (gradient_s - gradient_solver_s) / its) /
                          (factor + solve + gradient_solver_s / its);
   const std::string row =
-      fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f}", name, dim, first.dofs,
-                  m.points.size(), first.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
+      fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f}", name, dim, step.dofs,
+                  m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
                   gradient_s, peak_mib());
   csv << row << "\n";
   csv.flush();
   fmt::print("{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
              "factor {:.4f}  solve {:.4f}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
              "with gradient {:.2f}\n",
-             name, first.dofs, m.points.size(), first.nonzeros, t.iterations, first.cuts, pattern, assembly, analysis, factor, solve,
+             name, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis, factor, solve,
              update, gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
   std::fflush(stdout);
 }
