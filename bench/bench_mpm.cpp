@@ -2,7 +2,7 @@
 // problem grows (docs/performance.md). Never part of the tests.
 //
 //   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME]
-//   (--solver: the case files' nonlinear_solver.linear_solver, cholmod by default; with
+//   (--solver: the case files' linear_solver.type, cholmod by default; with
 //   pcg, factor_s is the incomplete-Cholesky preconditioner and solve_s the CG iterations)
 //   (--only runs one size of one case, e.g. column_2d:224 or footing_2d:4, for profiling)
 //
@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
     n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
   }
-  const std::string solver_key = fmt::format("nonlinear_solver.linear_solver=\"{}\"", solver);
+  const std::string solver_key = fmt::format("linear_solver.type=\"{}\"", solver);
   for (int n : n2) bench<2>("column_2d", CaseFile::parse(column(2, n), "column_2d", {solver_key}), csv, threads);
   for (int n : n3) bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";

@@ -5,7 +5,7 @@
 //     ((eps1 - eps2) * height), which is l for l << L in the 1D theory.
 //  R2 plate with a sharp V-notch in tension: the classical peak strain grows without
 //     bound under refinement (the notch-tip singularity), the e-RA peak converges.
-//  R4 with nonlinear_solver.linear_solver = "pcg" the classical solve and the gradient
+//  R4 with linear_solver.type = "pcg" the classical solve and the gradient
 //     step (u-RA with its Dirichlet nodes, e-RA, s-RA) use conjugate gradients and give the
 //     direct solver's fields to 1e-8;
 //  R3 (1D, large deformation) the paper's questions: on a bi-material Hencky column
@@ -149,7 +149,7 @@ TEST(MpmGradient2D, IterativeSolverGivesTheDirectSolversEnrichedFields) {
   for (const char* variant : {"u-RA", "e-RA", "s-RA"}) {
     const std::vector<std::string> sets = {fmt::format("gradient.variant=\"{}\"", variant)};
     std::vector<std::string> pcg = sets;
-    pcg.push_back("nonlinear_solver.linear_solver=\"pcg\"");
+    pcg.push_back("linear_solver.type=\"pcg\"");
     const Result direct = run_text(plate(1.0 / 32, 0.1), sets), iterative = run_text(plate(1.0 / 32, 0.1), pcg);
     double scale = 0.0, diff = 0.0, udiff = 0.0;
     for (int p = 0; p < direct.model.points.size(); ++p) {

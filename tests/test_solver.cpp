@@ -1,6 +1,10 @@
 // Requirements on the sparse machinery: the pattern + scatter-add assembly gives the
 // same operator as a dense reference, Dirichlet elimination gives the constrained
-// solution, CHOLMOD and Eigen agree, and an indefinite matrix is reported, not solved.
+// solution, every registered linear solver (one interface, created by name) solves
+// what it claims to: the SPD ones agree and refuse an indefinite matrix, the general ones
+// solve a non-symmetric system without symmetrising it, a symmetric-only choice hands
+// non-symmetric matrices to linear_solver.general, and a solver defined only in this
+// test joins the registry with one call (recipe "add a linear solver").
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -10,7 +14,7 @@
 #include "gradmpm/points/Generate.hpp"
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
-#include "gradmpm/solver/SpdSolver.hpp"
+#include "gradmpm/solver/linear/LinearSolver.hpp"
 
 using namespace gradmpm;
 
@@ -70,9 +74,9 @@ TEST(Dirichlet, EliminationGivesConstrainedSolution) {
   bc.apply_to_matrix(As, {1, 3});
   Vector rhs = b;
   bc.apply_to_rhs(rhs, {0.5, -2.0});
-  SpdSolver solver;
-  solver.compute(As);
-  const Vector x = solver.solve(rhs);
+  const auto solver = make_linear_solver({});
+  solver->compute(As);
+  const Vector x = solver->solve(rhs);
   EXPECT_NEAR(x[1], 0.5, 1e-14);
   EXPECT_NEAR(x[3], -2.0, 1e-14);
   // free equations: rows 0 and 2 of A x = b
@@ -80,33 +84,124 @@ TEST(Dirichlet, EliminationGivesConstrainedSolution) {
   EXPECT_NEAR(A.row(2).dot(x), b[2], 1e-13);
 }
 
-TEST(SpdSolver, CholmodAndEigenAgreeAndAnalysisIsReused) {
-  const int n = 200;
+namespace {
+SparseMatrix tridiagonal(int n, double lower, double upper) {
   std::vector<Eigen::Triplet<double>> t;
   for (int i = 0; i < n; ++i) {
     t.emplace_back(i, i, 2.0 + 0.01 * i);
     if (i + 1 < n) {
-      t.emplace_back(i, i + 1, -1.0);
-      t.emplace_back(i + 1, i, -1.0);
+      t.emplace_back(i, i + 1, upper);
+      t.emplace_back(i + 1, i, lower);
     }
   }
   SparseMatrix A(n, n);
   A.setFromTriplets(t.begin(), t.end());
-  const Vector b = Vector::LinSpaced(n, -1.0, 1.0);
-  SpdSolver chol(SpdSolver::Backend::Cholmod), ldlt(SpdSolver::Backend::EigenLDLT);
-  chol.compute(A);
-  ldlt.compute(A);
-  const Vector x1 = chol.solve(b);
+  return A;
+}
+LinearSolverSettings named(const std::string& type) {
+  LinearSolverSettings s;
+  s.type = type;
+  return s;
+}
+}  // namespace
+
+TEST(LinearSolver, EverySolverAgreesOnAnSpdSystemAndReusesItsAnalysis) {
+  const SparseMatrix A = tridiagonal(200, -1.0, -1.0);
+  const Vector b = Vector::LinSpaced(200, -1.0, 1.0);
+  const auto ref = make_linear_solver(named("cholmod"));
+  ref->compute(A);
+  const Vector x1 = ref->solve(b);
   EXPECT_LT((A * x1 - b).norm(), 1e-12 * b.norm());
-  EXPECT_LT((x1 - ldlt.solve(b)).norm(), 1e-12 * x1.norm());
-  // New values, same pattern: factorize() alone must be enough.
-  SparseMatrix A2 = A * 3.0;
-  chol.factorize(A2);
-  EXPECT_LT((chol.solve(b) - x1 / 3.0).norm(), 1e-12 * x1.norm());
+  for (const auto& info : LinearSolverRegistry::instance().all()) {
+    const auto s = make_linear_solver(named(info.name));
+    EXPECT_EQ(s->name(), info.name);
+    s->compute(A);
+    EXPECT_LT((s->solve(b) - x1).norm(), 1e-10 * x1.norm()) << info.name;
+    // New values, same pattern: factorize() alone must be enough.
+    s->factorize(SparseMatrix(A * 3.0));
+    EXPECT_LT((s->solve(b) - x1 / 3.0).norm(), 1e-10 * x1.norm()) << info.name;
+    // Several right-hand sides at once give the single solves.
+    Eigen::MatrixXd B(200, 2);
+    B << b, 2.0 * b;
+    const Eigen::MatrixXd X = s->solve(B);
+    EXPECT_LT((X.col(1) - 2.0 * x1 / 3.0).norm(), 1e-10 * x1.norm()) << info.name;
+  }
 }
 
-TEST(SpdSolver, PreconditionedCgSolvesAndReportsFailure) {
-  // 2D five-point Laplacian (+ a small shift): incomplete Cholesky is not exact here.
+TEST(LinearSolver, NonSymmetricMatrixIsSolvedByAGeneralSolverNeverSymmetrised) {
+  // Strongly non-symmetric: the sub- and super-diagonals differ.
+  const SparseMatrix A = tridiagonal(100, -0.2, -1.5);
+  const Vector b = Vector::LinSpaced(100, 0.5, 2.0);
+  for (const char* name : {"umfpack", "eigen-lu"}) {
+    const auto s = make_linear_solver(named(name), MatrixKind::General);
+    EXPECT_TRUE(s->general());
+    s->compute(A);
+    EXPECT_LT((A * s->solve(b) - b).norm(), 1e-12 * b.norm()) << name;
+  }
+  // A symmetric-only choice is not used for a general matrix: linear_solver.general is.
+  for (const char* name : {"cholmod", "eigen-ldlt", "pcg"}) {
+    const auto s = make_linear_solver(named(name), MatrixKind::General);
+    EXPECT_EQ(s->name(), "umfpack") << name;
+    s->compute(A);
+    EXPECT_LT((A * s->solve(b) - b).norm(), 1e-12 * b.norm()) << name;
+  }
+  // What cholmod would do with it (read one triangle) is a different answer: the test
+  // matrix really is one that symmetrising would get wrong.
+  const auto chol = make_linear_solver(named("cholmod"));
+  chol->compute(A);
+  EXPECT_GT((A * chol->solve(b) - b).norm(), 1e-3 * b.norm());
+}
+
+TEST(LinearSolver, UnknownNamesAreRefusedWithTheRegisteredOnes) {
+  try {
+    make_linear_solver(named("mumps"));
+    FAIL() << "expected SolverError";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"cholmod\""), std::string::npos) << e.what();
+  }
+  LinearSolverSettings s;
+  s.general = "cholmod";  // not a general solver
+  EXPECT_THROW(make_linear_solver(s, MatrixKind::General), SolverError);
+}
+
+namespace {
+/// A toy solver defined only here: Jacobi iterations to a tight tolerance, for
+/// diagonally dominant matrices (recipe "add a linear solver", docs/architecture.md).
+class ToyJacobi final : public LinearSolver {
+ public:
+  std::string name() const override { return "toy-jacobi"; }
+  bool general() const override { return true; }
+
+ protected:
+  void do_analyze(const SparseMatrix&) override {}
+  void do_factorize(const SparseMatrix& A) override { A_ = A; }
+  Vector do_solve(const Vector& b) const override {
+    Vector x = Vector::Zero(b.size());
+    const Vector d = A_.diagonal();
+    for (int it = 0; it < 10000 && (A_ * x - b).norm() > 1e-14 * b.norm(); ++it) x += (b - A_ * x).cwiseQuotient(d);
+    return x;
+  }
+
+ private:
+  SparseMatrix A_;
+};
+}  // namespace
+
+TEST(LinearSolver, ASolverDefinedInATestJoinsTheRegistryWithOneCall) {
+  LinearSolverRegistry::instance().add({"toy-jacobi", "Jacobi iterations (test only)", true,
+                                        [](const LinearSolverSettings&) { return std::make_unique<ToyJacobi>(); }});
+  const SparseMatrix A = tridiagonal(50, -0.5, -0.3);
+  const Vector b = Vector::LinSpaced(50, 1.0, 2.0);
+  const auto s = make_linear_solver(named("toy-jacobi"), MatrixKind::General);
+  EXPECT_EQ(s->name(), "toy-jacobi");
+  s->compute(A);
+  const auto lu = make_linear_solver(named("umfpack"));
+  lu->compute(A);
+  EXPECT_LT((s->solve(b) - lu->solve(b)).norm(), 1e-12 * b.norm());
+  EXPECT_NE(LinearSolverRegistry::instance().quoted_names().find("\"toy-jacobi\""), std::string::npos);
+}
+
+TEST(LinearSolver, PreconditionedCgSolvesAndReportsFailure) {  // 2D five-point Laplacian (+ a small shift): incomplete Cholesky is not exact here.
   const int m = 30, n = m * m;
   std::vector<Eigen::Triplet<double>> t;
   for (int i = 0; i < m; ++i)
@@ -125,17 +220,18 @@ TEST(SpdSolver, PreconditionedCgSolvesAndReportsFailure) {
   SparseMatrix A(n, n);
   A.setFromTriplets(t.begin(), t.end());
   const Vector b = Vector::LinSpaced(n, -1.0, 1.0);
-  SpdSolver chol, pcg(SpdSolver::Backend::PCG);
-  chol.compute(A);
-  pcg.compute(A);
-  const Vector x = chol.solve(b);
-  EXPECT_LT((pcg.solve(b) - x).norm(), 1e-8 * x.norm());
-  SpdSolver limited(SpdSolver::Backend::PCG);
-  limited.pcg_max_iterations = 2;
-  limited.pcg_tolerance = 1e-14;
-  limited.compute(A);
+  const auto chol = make_linear_solver(named("cholmod")), pcg = make_linear_solver(named("pcg"));
+  chol->compute(A);
+  pcg->compute(A);
+  const Vector x = chol->solve(b);
+  EXPECT_LT((pcg->solve(b) - x).norm(), 1e-8 * x.norm());
+  LinearSolverSettings s = named("pcg");
+  s.pcg_max_iterations = 2;
+  s.pcg_tolerance = 1e-14;
+  const auto limited = make_linear_solver(s);
+  limited->compute(A);
   try {
-    limited.solve(b);
+    limited->solve(b);
     FAIL() << "expected SolverError";
   } catch (const SolverError& e) {
     EXPECT_NE(std::string(e.what()).find("preconditioned CG did not converge"), std::string::npos) << e.what();
@@ -143,12 +239,12 @@ TEST(SpdSolver, PreconditionedCgSolvesAndReportsFailure) {
   }
 }
 
-TEST(SpdSolver, IndefiniteMatrixIsReported) {
+TEST(LinearSolver, IndefiniteMatrixIsReportedBySpdSolvers) {
   SparseMatrix A(2, 2);
   A.insert(0, 0) = 1.0;
   A.insert(1, 1) = -1.0;
-  for (auto backend : {SpdSolver::Backend::Cholmod, SpdSolver::Backend::EigenLDLT}) {  // PCG: see above
-    SpdSolver s(backend);
-    EXPECT_THROW(s.compute(A), SolverError) << SpdSolver::name(backend);
+  for (const char* name : {"cholmod", "eigen-ldlt"}) {  // PCG: see above
+    const auto s = make_linear_solver(named(name));
+    EXPECT_THROW(s->compute(A), SolverError) << name;
   }
 }

@@ -9,7 +9,7 @@
 #include "gradmpm/io/Csv.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
 #include "gradmpm/io/Python.hpp"
-#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/app/CommonKeys.hpp"
 
 namespace gradmpm {
 
@@ -22,7 +22,7 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* 
     cf.declare_section("gradient", {"variant", "length_scale"}, true);
   }
   cf.declare_section("output", {"plot"}, false);
-  cf.declare_section("solver", {"linear"}, false);
+  declare_linear_solver_section(cf);
   cf.reject_unknown();
 
   BarConfig c;
@@ -59,9 +59,7 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* 
   }
   cf.require(c.length_scale >= 0.0, "gradient.length_scale", "a length scale l >= 0");
 
-  const std::string linear = cf.string_or("solver.linear", "cholmod");
-  cf.require(linear == "cholmod" || linear == "eigen-ldlt", "solver.linear", "\"cholmod\" or \"eigen-ldlt\"");
-  c.solver = linear == "cholmod" ? SpdSolver::Backend::Cholmod : SpdSolver::Backend::EigenLDLT;
+  c.solver = read_linear_solver_settings(cf);
 
   output.plot = cf.boolean_or("output.plot", true);
   if (mpm) {

@@ -1,5 +1,5 @@
 #pragma once
-// The bar case file: [bar], [gradient], [output], [solver] (docs/case-files.md),
+// The bar case file: [bar], [gradient], [output], [linear_solver] (docs/case-files.md),
 // and the files it writes: bar.csv, bar_points.csv, bar.png.
 #include <filesystem>
 

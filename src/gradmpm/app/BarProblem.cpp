@@ -1,8 +1,8 @@
 #include "gradmpm/app/BarProblem.hpp"
 
-#include <chrono>
 
 #include "gradmpm/basis/LinearBasis.hpp"
+#include "gradmpm/core/Timer.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/points/Generate.hpp"
@@ -13,10 +13,6 @@
 namespace gradmpm {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 /// eps_p = sum_a dN_a/dx u_a : the strain of a nodal displacement at every point.
 std::vector<double> point_strains(const PointStencils<1>& st, const Vector& u) {
@@ -62,16 +58,16 @@ std::vector<double> point_compliant_strains(const BarResult& r, const std::vecto
 /// smooth strain or stress and have no displacement of their own).
 Vector integrate_strain(const Assembler<1>& assembler, const SparseMatrix& pattern,
                         const std::vector<double>& eps, int left_dof,
-                        SpdSolver::Backend backend) {
+                        const LinearSolverSettings& backend) {
   SparseMatrix L = pattern;
   assembler.add_laplacian(L);
   DirichletElimination bc;
   bc.apply_to_matrix(L, {left_dof});
   Vector f = assembler.gradient_load(eps, 0);
   bc.apply_to_rhs(f, {0.0});
-  SpdSolver solver(backend);
-  solver.compute(L);
-  return solver.solve(f);
+  const auto solver = make_linear_solver(backend);
+  solver->compute(L);
+  return solver->solve(f);
 }
 }  // namespace
 
@@ -111,9 +107,9 @@ BarResult solve_bar(const BarConfig& c) {
   r.timings.assembly_s = seconds_since(t_assembly);
 
   const auto t_solve = Clock::now();
-  SpdSolver solver(c.solver);
-  solver.compute(K);
-  r.u_classical = dofs.to_grid(solver.solve(f));
+  const auto solver = make_linear_solver(c.solver);
+  solver->compute(K);
+  r.u_classical = dofs.to_grid(solver->solve(f));
   r.timings.classical_solve_s = seconds_since(t_solve);
 
   r.point_strain_classical = point_strains(st, r.u_classical);

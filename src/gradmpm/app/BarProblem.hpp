@@ -9,7 +9,7 @@
 #include "gradmpm/gradient/Variant.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
-#include "gradmpm/solver/SpdSolver.hpp"
+#include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 
 namespace gradmpm {
 
@@ -23,7 +23,7 @@ struct BarConfig {
   int points_per_element = 2;  ///< Gauss points per element (1..4)
   GradientVariant variant = GradientVariant::U_RA;
   double length_scale = 2.0;
-  SpdSolver::Backend solver = SpdSolver::Backend::Cholmod;
+  LinearSolverSettings solver;
 };
 
 struct BarTimings {

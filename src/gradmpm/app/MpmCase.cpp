@@ -8,7 +8,9 @@
 #include <optional>
 
 #include "gradmpm/analytic/Column.hpp"
+#include "gradmpm/app/CommonKeys.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Timer.hpp"
 #include "gradmpm/io/Csv.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
 #include "gradmpm/io/Python.hpp"
@@ -67,30 +69,6 @@ Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
 
 }  // namespace
 
-GradientSettings read_gradient_settings(CaseFile& cf) {
-  GradientSettings g;
-  const auto v = parse_gradient_variant(cf.string_or("gradient.variant", "none"));
-  cf.require(v.has_value(), "gradient.variant", "one of \"u-RA\", \"e-RA\", \"s-RA\", \"none\"");
-  g.variant = *v;
-  if (g.variant == GradientVariant::None) {
-    for (const char* k : {"gradient.length_scale", "gradient.apply", "gradient.fields"})
-      cf.require(!cf.has(k), k, "no such key when gradient.variant = \"none\" (it would have no effect)");
-    return g;
-  }
-  g.length_scale = cf.number("gradient.length_scale");
-  cf.require(g.length_scale >= 0.0, "gradient.length_scale", "a length scale l >= 0");
-  const std::string apply = cf.string_or("gradient.apply", "each_step");
-  cf.require(apply == "each_step" || apply == "end", "gradient.apply", "\"each_step\" or \"end\"");
-  g.apply = apply == "end" ? GradientApply::End : GradientApply::EachStep;
-  const std::string fields = cf.string_or("gradient.fields", g.apply == GradientApply::End ? "grid" : "points");
-  cf.require(fields == "points" || fields == "grid", "gradient.fields", "\"points\" or \"grid\"");
-  g.fields = fields == "grid" ? GradientFields::Grid : GradientFields::Points;
-  cf.require(!(g.apply == GradientApply::End && g.fields == GradientFields::Points), "gradient.fields",
-             "\"grid\" when gradient.apply = \"end\" (a single smoothing at the end has nothing for the points "
-             "to carry between steps)");
-  return g;
-}
-
 template <int dim>
 Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions& output, GradientSettings* gradient) {
   cf.declare_section("grid", {"origin", "cell_size", "cells"}, true);
@@ -101,7 +79,8 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   cf.declare_array("constraints", {"face", "min", "max", "fix", "displacement"});
   cf.declare_array("point_loads", {"min", "max", "force"});
   cf.declare_section("load_steps", {"count"}, true);
-  cf.declare_section("nonlinear_solver", {"tolerance", "max_iterations", "max_cuts", "linear_solver"}, false);
+  cf.declare_section("nonlinear_solver", {"tolerance", "max_iterations", "max_cuts"}, false);
+  declare_linear_solver_section(cf);
   cf.declare_section("output", {"vtk_every", "track", "check", "plot"}, false);
   cf.declare_section("gradient", {"variant", "length_scale", "apply", "fields"}, false);
   cf.reject_unknown();
@@ -263,12 +242,7 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
   const long long cuts = cf.integer_or("nonlinear_solver.max_cuts", 6);
   cf.require(cuts >= 0 && cuts <= 30, "nonlinear_solver.max_cuts", "an integer from 0 to 30");
   newton.max_cuts = static_cast<int>(cuts);
-  const std::string linear = cf.string_or("nonlinear_solver.linear_solver", "cholmod");
-  cf.require(linear == "cholmod" || linear == "eigen-ldlt" || linear == "pcg", "nonlinear_solver.linear_solver",
-             "\"cholmod\", \"eigen-ldlt\" or \"pcg\"");
-  newton.linear_solver = linear == "cholmod"      ? SpdSolver::Backend::Cholmod
-                         : linear == "eigen-ldlt" ? SpdSolver::Backend::EigenLDLT
-                                                  : SpdSolver::Backend::PCG;
+  newton.linear_solver = read_linear_solver_settings(cf);
   if (gradient) gradient->linear_solver = newton.linear_solver;
 
   const long long every = cf.integer_or("output.vtk_every", 1);
@@ -294,8 +268,6 @@ Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions&
 }
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 void write_now(const fs::path& dir, const std::string& name, const std::string& content) {
   StagedOutputs out(dir);
@@ -529,7 +501,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
                  100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
     if (!quiet)
       fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps, summary.total_iterations,
-                 summary.cuts, std::chrono::duration<double>(Clock::now() - t0).count());
+                 summary.cuts, seconds_since(t0));
     if (output.check == "column") {
       const std::string line = column_check(m, dir, output.plot);
       if (!quiet) fmt::print("  {}\n", line);

@@ -17,10 +17,6 @@ struct MpmOutputOptions {
   bool plot = true;                ///< with check = "column": column.png
 };
 
-/// Reads the optional [gradient] section of an MPM case (variant, length_scale, apply,
-/// fields) and refuses combinations that make no sense.
-GradientSettings read_gradient_settings(CaseFile& cf);
-
 /// Spatial dimension of an MPM case (the length of grid.cells).
 int mpm_case_dimension(const CaseFile& cf);
 

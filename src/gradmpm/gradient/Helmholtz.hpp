@@ -13,7 +13,7 @@
 
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
-#include "gradmpm/solver/SpdSolver.hpp"
+#include "gradmpm/solver/linear/LinearSolver.hpp"
 
 namespace gradmpm {
 
@@ -24,12 +24,12 @@ class HelmholtzSmoother {
   /// equations whose value is prescribed in every smoothing (u-RA); empty for natural BCs.
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern,
                     double length_scale, const std::vector<int>& dirichlet_dofs = {},
-                    SpdSolver::Backend backend = SpdSolver::Backend::Cholmod)
-      : assembler_(assembler), solver_(backend) {
+                    const LinearSolverSettings& solver = {})
+      : assembler_(assembler), solver_(make_linear_solver(solver)) {
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
     if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs);
-    solver_.compute(A);
+    solver_->compute(A);
   }
 
   /// Smooths a field known at the points (e-RA: a strain component, s-RA: a stress one).
@@ -40,10 +40,10 @@ class HelmholtzSmoother {
 
   /// Natural-boundary smoothing of several fields at once: column j of `f` is the load
   /// of field j (Assembler::load_columns); one solve sweep serves all.
-  Eigen::MatrixXd smooth_loads(const Eigen::MatrixXd& f) const { return solver_.solve(f); }
+  Eigen::MatrixXd smooth_loads(const Eigen::MatrixXd& f) const { return solver_->solve(f); }
 
   /// Seconds its sparse solver has taken in factorisation and solves (not the analysis).
-  double solver_seconds() const { return solver_.seconds(); }
+  double solver_seconds() const { return solver_->seconds(); }
 
   /// Smooths a nodal field (u-RA: a displacement component): f_i = sum_p N_i c(x_p) V_p,
   /// which is M c with M integrated by the points.
@@ -54,12 +54,12 @@ class HelmholtzSmoother {
  private:
   Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
     if (!dirichlet_.dofs().empty()) dirichlet_.apply_to_rhs(f, dirichlet_values);
-    return solver_.solve(f);
+    return solver_->solve(f);
   }
 
   const Assembler<dim>& assembler_;
   DirichletElimination dirichlet_;
-  SpdSolver solver_;
+  std::unique_ptr<LinearSolver> solver_;
 };
 
 }  // namespace gradmpm

@@ -1,19 +1,17 @@
 #include "gradmpm/gradient/MpmGradient.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <memory>
 
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/core/Timer.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
 #include "gradmpm/points/Transfer.hpp"
 
 namespace gradmpm {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 /// The six independent components of a symmetric 3x3 tensor.
 constexpr int kSym[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
@@ -24,7 +22,7 @@ constexpr int kSym[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 template <int dim>
 class SmoothingContext {
  public:
-  SmoothingContext(const Model<dim>& m, double l, SpdSolver::Backend backend)
+  SmoothingContext(const Model<dim>& m, double l, const LinearSolverSettings& backend)
       : model_(m),
         l_(l),
         backend_(backend),
@@ -101,7 +99,7 @@ class SmoothingContext {
  private:
   const Model<dim>& model_;
   double l_;
-  SpdSolver::Backend backend_;
+  LinearSolverSettings backend_;
   PointStencils<dim> st_;
   DofMap dofs_;
   SparseMatrix pattern_;
@@ -238,7 +236,7 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
   prev_position_ = m.points.position;
   prev_strain_ = m.points.strain;
   prev_stress_ = m.points.stress;
-  seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+  seconds_ += seconds_since(t0);
 }
 
 template <int dim>
@@ -254,7 +252,7 @@ void GradientStep<dim>::after_step(const Model<dim>& m, bool report, bool last) 
   } else if (last || (settings_.apply == GradientApply::EachStep && report)) {
     const auto t0 = Clock::now();
     latest_ = smooth_total<dim>(m, settings_);
-    seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
+    seconds_ += seconds_since(t0);
   }
 }
 

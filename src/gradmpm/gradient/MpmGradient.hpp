@@ -29,7 +29,7 @@
 
 #include "gradmpm/gradient/Variant.hpp"
 #include "gradmpm/mpm/Model.hpp"
-#include "gradmpm/solver/SpdSolver.hpp"
+#include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 
 namespace gradmpm {
 
@@ -41,9 +41,9 @@ struct GradientSettings {
   double length_scale = 0.0;
   GradientApply apply = GradientApply::EachStep;
   GradientFields fields = GradientFields::Points;
-  /// Solver of the Helmholtz systems: the case's nonlinear_solver.linear_solver, so that
-  /// a problem too large to factorise is not factorised by its gradient step either.
-  SpdSolver::Backend linear_solver = SpdSolver::Backend::Cholmod;
+  /// Solver of the Helmholtz systems: the case's [linear_solver], so that a problem too
+  /// large to factorise is not factorised by its gradient step either.
+  LinearSolverSettings linear_solver;
 };
 
 /// The enriched fields at every material point.

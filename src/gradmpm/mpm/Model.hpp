@@ -8,7 +8,7 @@
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
-#include "gradmpm/solver/SpdSolver.hpp"
+#include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 
 namespace gradmpm {
 
@@ -37,7 +37,7 @@ struct NewtonSettings {
   double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
   int max_iterations = 25;
   int max_cuts = 6;         ///< halvings of a failing load increment before giving up
-  SpdSolver::Backend linear_solver = SpdSolver::Backend::Cholmod;
+  LinearSolverSettings linear_solver;
 };
 
 /// Seconds spent in each phase of a load step (summed over its Newton iterations).
@@ -68,7 +68,7 @@ struct StepInfo {
   double increment = 0.0;        ///< d lambda of the step
   int cuts = 0;                  ///< halvings needed before this step converged
   std::vector<double> residuals; ///< normalised out-of-balance force per Newton iteration
-  int indefinite_solves = 0;     ///< iterations whose tangent was not positive definite (solved by LU)
+  int indefinite_solves = 0;     ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
   Vector grid_displacement;      ///< the step's displacement increment at every grid node (dim per node)
   Vector grid_mass;              ///< nodal mass sum_p N_i m_p (eq. 1)
   double seconds = 0.0;

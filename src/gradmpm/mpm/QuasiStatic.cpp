@@ -2,23 +2,21 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <map>
 
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/core/Timer.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
-#include "gradmpm/solver/SpdSolver.hpp"
+#include "gradmpm/solver/linear/LinearSolver.hpp"
 
 namespace gradmpm {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// A Newton failure inside one load step (the caller cuts the increment).
 struct StepFailure {
@@ -211,13 +209,14 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
   Vector du = Vector::Zero(step.dofs().num_dofs());
   const std::vector<double> zeros(step.constrained().size(), 0.0);
-  SpdSolver solver(settings.linear_solver);
+  const auto solver = make_linear_solver(settings.linear_solver, MatrixKind::Symmetric);
+  std::unique_ptr<LinearSolver> general;  // made when a tangent is not positive definite
   Vector f_int;
   SparseMatrix K;
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
     step.internal_force(du, f_int);
-    times.assembly += since(t0);
+    times.assembly += seconds_since(t0);
     Vector r = step.f_ext() - f_int;
     const double scale = std::max(step.f_ext().norm(), f_int.norm());
     for (int c : step.constrained()) r[c] = 0.0;
@@ -236,29 +235,31 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
       throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
     t0 = Clock::now();
     step.stiffness(K);  // only when another iteration follows
-    times.assembly += since(t0);
+    times.assembly += seconds_since(t0);
     DirichletElimination bc;
     bc.apply_to_matrix(K, step.constrained());
     bc.apply_to_rhs(r, it == 0 ? step.increments() : zeros);
     try {
       if (it == 0) {  // the pattern is fixed within the load step
         t0 = Clock::now();
-        solver.analyze(K);
-        times.analysis += since(t0);
+        solver->analyze(K);
+        times.analysis += seconds_since(t0);
       }
       try {
         t0 = Clock::now();
-        solver.factorize(K);
-        times.factor += since(t0);
+        solver->factorize(K);
+        times.factor += seconds_since(t0);
         t0 = Clock::now();
-        du += solver.solve(r);
-        times.solve += since(t0);
+        du += solver->solve(r);
+        times.solve += seconds_since(t0);
       } catch (const SolverError&) {
         // Not positive definite at this iterate (a distorted trial state, or a genuine
         // instability): the symmetric indefinite system still has a Newton step.
         t0 = Clock::now();
-        du += SpdSolver::solve_general(K, r);
-        times.factor += since(t0);
+        if (!general) general = make_linear_solver(settings.linear_solver, MatrixKind::General);
+        general->compute(K);
+        du += general->solve(r);
+        times.factor += seconds_since(t0);
         ++indefinite;
       }
       ++times.iterations;
@@ -290,13 +291,13 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
         } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
           throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
         }
-        info.phases.pattern = since(t0);
+        info.phases.pattern = seconds_since(t0);
         info.dofs = step->dofs().num_dofs();
         info.nonzeros = step->pattern().nonZeros();
         const Vector du = newton(*step, settings, info.residuals, info.indefinite_solves, info.phases);
         t0 = Clock::now();
         step->commit(model, du);
-        info.phases.update = since(t0);
+        info.phases.update = seconds_since(t0);
         info.grid_displacement = Vector::Zero(model.grid.num_nodes() * dim);
         for (int i = 0; i < dim; ++i) {
           const Vector gi = step->dofs().to_grid(du, i);
@@ -319,7 +320,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
     info.step = ++summary.steps;
     info.load_factor = lambda;
     info.increment = dlambda;
-    info.seconds = since(t0);
+    info.seconds = seconds_since(t0);
     summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
     if (observer) observer(model, info);
     if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut

@@ -1,0 +1,93 @@
+#include "gradmpm/solver/linear/LinearSolver.hpp"
+
+#include <fmt/format.h>
+
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Timer.hpp"
+
+namespace gradmpm {
+
+void LinearSolver::analyze(const SparseMatrix& A) {
+  ScopedSeconds timer(analysis_seconds_);
+  do_analyze(A);
+  analyzed_ = true;
+  factorized_ = false;
+}
+
+void LinearSolver::factorize(const SparseMatrix& A) {
+  if (!analyzed_) analyze(A);
+  ScopedSeconds timer(seconds_);
+  factorized_ = false;
+  do_factorize(A);
+  factorized_ = true;
+}
+
+Vector LinearSolver::solve(const Vector& b) const {
+  if (!factorized_) throw SolverError(name() + ": solve called before factorize");
+  ScopedSeconds timer(seconds_);
+  Vector x = do_solve(b);
+  if (!x.allFinite()) throw SolverError(name() + ": the solve produced non-finite values");
+  return x;
+}
+
+Eigen::MatrixXd LinearSolver::solve(const Eigen::MatrixXd& B) const {
+  if (!factorized_) throw SolverError(name() + ": solve called before factorize");
+  ScopedSeconds timer(seconds_);
+  Eigen::MatrixXd X = do_solve(B);
+  if (!X.allFinite()) throw SolverError(name() + ": the solve produced non-finite values");
+  return X;
+}
+
+Eigen::MatrixXd LinearSolver::do_solve(const Eigen::MatrixXd& B) const {
+  Eigen::MatrixXd X(B.rows(), B.cols());
+  for (Eigen::Index j = 0; j < B.cols(); ++j) X.col(j) = do_solve(Vector(B.col(j)));
+  return X;
+}
+
+void register_builtin_linear_solvers(LinearSolverRegistry& registry);  // LinearSolverRegistry.cpp
+
+LinearSolverRegistry& LinearSolverRegistry::instance() {
+  static LinearSolverRegistry registry = [] {
+    LinearSolverRegistry r;
+    register_builtin_linear_solvers(r);
+    return r;
+  }();
+  return registry;
+}
+
+void LinearSolverRegistry::add(LinearSolverInfo info) {
+  for (auto& s : solvers_)
+    if (s.name == info.name) {
+      s = std::move(info);
+      return;
+    }
+  solvers_.push_back(std::move(info));
+}
+
+const LinearSolverInfo* LinearSolverRegistry::find(const std::string& name) const {
+  for (const auto& s : solvers_)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+std::string LinearSolverRegistry::quoted_names(bool general_only) const {
+  std::string out;
+  for (const auto& s : solvers_)
+    if (!general_only || s.general) out += fmt::format("{}\"{}\"", out.empty() ? "" : ", ", s.name);
+  return out;
+}
+
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, MatrixKind kind) {
+  const auto& registry = LinearSolverRegistry::instance();
+  const LinearSolverInfo* info = registry.find(settings.type);
+  if (!info) throw SolverError(fmt::format("no linear solver named \"{}\" (registered: {})", settings.type, registry.quoted_names()));
+  if (kind == MatrixKind::General && !info->general) {
+    info = registry.find(settings.general);
+    if (!info || !info->general)
+      throw SolverError(fmt::format("no general (non-symmetric) linear solver named \"{}\" (registered: {})",
+                                    settings.general, registry.quoted_names(true)));
+  }
+  return info->make(settings);
+}
+
+}  // namespace gradmpm

@@ -1,0 +1,90 @@
+#pragma once
+// One interface for every sparse linear solver (direct or iterative, symmetric or not),
+// in the manner of MFEM's Solver/Operator: analyse the pattern once, factorise (or set
+// up a preconditioner) for new values with the same pattern, solve any number of
+// right-hand sides. Implementations live in solver/linear/ (one file each) and are
+// created by name through LinearSolverRegistry, so the driver never names one.
+//
+// Recipe "add a linear solver" (docs/architecture.md): derive from LinearSolver,
+// implement do_analyze/do_factorize/do_solve (and general()), and add one line to
+// register_builtin_linear_solvers() in LinearSolverRegistry.cpp; tests/test_solver.cpp
+// registers a toy one at run time the same way.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gradmpm/core/Types.hpp"
+#include "gradmpm/solver/linear/LinearSolverSettings.hpp"
+
+namespace gradmpm {
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  virtual std::string name() const = 0;
+  /// true: solves any square matrix (reads both triangles); false: symmetric only.
+  virtual bool general() const = 0;
+
+  /// Symbolic analysis (ordering, elimination tree). Call again only if the pattern changes.
+  void analyze(const SparseMatrix& A);
+  /// Numeric factorisation (or preconditioner set-up); analyses first if not yet done.
+  /// Throws SolverError if it cannot (e.g. an SPD solver given an indefinite matrix).
+  void factorize(const SparseMatrix& A);
+  /// analyze (if not yet done) + factorize.
+  void compute(const SparseMatrix& A) { factorize(A); }
+  /// x = A^{-1} b with the current factorisation; throws SolverError on failure
+  /// (non-finite values; an iterative solver that did not converge says how far it got).
+  Vector solve(const Vector& b) const;
+  /// X = A^{-1} B for several right-hand sides at once.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+
+  /// Wall-clock seconds spent so far in factorize and solve, and in analyze.
+  double seconds() const { return seconds_; }
+  double analysis_seconds() const { return analysis_seconds_; }
+
+ protected:
+  virtual void do_analyze(const SparseMatrix& A) = 0;
+  virtual void do_factorize(const SparseMatrix& A) = 0;
+  virtual Vector do_solve(const Vector& b) const = 0;
+  /// Default: column by column.
+  virtual Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const;
+
+ private:
+  bool analyzed_ = false, factorized_ = false;
+  mutable double seconds_ = 0.0;
+  double analysis_seconds_ = 0.0;
+};
+
+/// A solver the registry can make: its case-file name, a one-line description, whether
+/// it solves general (non-symmetric) matrices, and how to make one.
+struct LinearSolverInfo {
+  std::string name;
+  std::string doc;
+  bool general = false;
+  std::function<std::unique_ptr<LinearSolver>(const LinearSolverSettings&)> make;
+};
+
+class LinearSolverRegistry {
+ public:
+  /// The registry holding the built-in solvers (and any added at run time).
+  static LinearSolverRegistry& instance();
+  /// Adds (or replaces) a solver by name.
+  void add(LinearSolverInfo info);
+  /// null when no solver has that name.
+  const LinearSolverInfo* find(const std::string& name) const;
+  const std::vector<LinearSolverInfo>& all() const { return solvers_; }
+  /// "\"cholmod\", \"pcg\", ..." for messages and docs (general ones only if asked).
+  std::string quoted_names(bool general_only = false) const;
+
+ private:
+  std::vector<LinearSolverInfo> solvers_;
+};
+
+/// The solver for matrices of `kind`: settings.type when it can solve them, else
+/// settings.general. Throws InputError-free SolverError if a name is not registered
+/// (case readers check names first, with the key in the message).
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings,
+                                                 MatrixKind kind = MatrixKind::Symmetric);
+
+}  // namespace gradmpm

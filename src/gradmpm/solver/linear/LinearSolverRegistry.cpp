@@ -1,0 +1,20 @@
+// The built-in linear solvers: one line each (its file defines the info).
+#include "gradmpm/solver/linear/LinearSolver.hpp"
+
+namespace gradmpm {
+
+LinearSolverInfo cholmod_solver_info();
+LinearSolverInfo eigen_ldlt_solver_info();
+LinearSolverInfo pcg_solver_info();
+LinearSolverInfo umfpack_solver_info();
+LinearSolverInfo eigen_lu_solver_info();
+
+void register_builtin_linear_solvers(LinearSolverRegistry& registry) {
+  registry.add(cholmod_solver_info());
+  registry.add(eigen_ldlt_solver_info());
+  registry.add(pcg_solver_info());
+  registry.add(umfpack_solver_info());
+  registry.add(eigen_lu_solver_info());
+}
+
+}  // namespace gradmpm
