@@ -30,13 +30,13 @@
 #include <sys/resource.h>
 
 #include <array>
-#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/core/Timer.hpp"
 
 using namespace gradmpm;
 
@@ -106,23 +106,22 @@ int reported_step = 2;
 
 template <int dim>
 void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads) {
-  NewtonSettings newton;
-  MpmOutputOptions out;
-  GradientSettings g;
-  Model<dim> m = read_mpm_case<dim>(cf, newton, out, &g);
+  MpmCase<dim> c = read_mpm_case<dim>(cf);
+  Model<dim>& m = c.model;
+  const NewtonSettings& newton = c.newton;
   StepInfo step;
   try {
     run_quasi_static<dim>(m, newton, [&](const Model<dim>&, const StepInfo& info) {
-      step = info;
+      step = info;  // its phases (the grid-field callbacks are valid only inside the call)
       if (info.step == reported_step) throw StopAfterStep{};
     });
   } catch (const StopAfterStep&) {
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   const double gradient_solver_s =
       smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver})
           .solver_seconds;
-  const double gradient_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double gradient_s = seconds_since(t0);
   const PhaseTimes& t = step.phases;
   const double its = std::max(1, t.iterations);
   const double pattern = t.pattern / its, assembly = t.assembly / its, analysis = t.analysis / its,

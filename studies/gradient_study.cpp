@@ -24,7 +24,6 @@
 
 using namespace gradmpm;
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -46,16 +45,11 @@ struct Run {
 
 template <int dim>
 Run solve(CaseFile cf) {
-  NewtonSettings newton;
-  MpmOutputOptions out;
-  GradientSettings g;
-  Model<dim> m = read_mpm_case<dim>(cf, newton, out, &g);
-  GradientStep<dim> gradient(m, g);
+  MpmCase<dim> c = read_mpm_case<dim>(cf);
+  Model<dim>& m = c.model;
+  GradientStep<dim> gradient(m, c.gradient);
   Run r;
-  run_quasi_static<dim>(m, newton, [&](const Model<dim>& mm, const StepInfo& info) {
-    r.classical_s += info.seconds;
-    gradient.after_step(mm, false, info.load_factor >= 1.0);
-  });
+  run_quasi_static<dim>(m, c.newton, {&gradient}, [&](const Model<dim>&, const StepInfo& info) { r.classical_s += info.seconds; });
   r.gradient_s = gradient.seconds();
   const EnrichedFields<dim>& f = *gradient.fields();
   std::vector<int> order(m.points.size());
@@ -65,7 +59,7 @@ Run solve(CaseFile cf) {
   });
   for (int p : order) {
     r.Y.push_back(m.points.original_position[p][dim - 1]);
-    r.eps_c.push_back(m.points.strain[p](dim - 1, dim - 1));
+    r.eps_c.push_back(m.elastic_strain(p)(dim - 1, dim - 1));
     r.eps_g.push_back(f.strain[p](dim - 1, dim - 1));
   }
   return r;
@@ -130,16 +124,11 @@ int main(int argc, char** argv) {
   for (const auto& [apply, fields] : {std::pair{"each_step", "points"}, std::pair{"end", "grid"}}) {
     CaseFile cf = CaseFile::load(src, {"gradient.variant=e-RA", "gradient.length_scale=0.25",
                                        std::string("gradient.apply=") + apply, std::string("gradient.fields=") + fields});
-    NewtonSettings newton;
-    MpmOutputOptions out;
-    GradientSettings g;
-    Model<2> m = read_mpm_case<2>(cf, newton, out, &g);
-    GradientStep<2> gradient(m, g);
+    MpmCase<2> c = read_mpm_case<2>(cf);
+    Model<2>& m = c.model;
+    GradientStep<2> gradient(m, c.gradient);
     double cls = 0;
-    run_quasi_static<2>(m, newton, [&](const Model<2>& mm, const StepInfo& info) {
-      cls += info.seconds;
-      gradient.after_step(mm, false, info.load_factor >= 1.0);
-    });
+    run_quasi_static<2>(m, c.newton, {&gradient}, [&](const Model<2>&, const StepInfo& info) { cls += info.seconds; });
     const double grad = gradient.seconds();
     fmt::print("footing 2D, e-RA, {}+{}: classical {:.3f} s, gradient {:.3f} s, ratio {:.1f} %\n", apply, fields, cls,
                grad, 100 * grad / cls);

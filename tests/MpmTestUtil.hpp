@@ -2,6 +2,8 @@
 // Shared model builders of the MPM tests.
 #include <memory>
 
+#include "gradmpm/materials/Hencky.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/analytic/Column.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"

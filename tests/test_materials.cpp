@@ -13,21 +13,40 @@
 //     the full one;
 //  R6 the Hencky stress is D : (1/2 ln b_e) exactly, b_e = dF exp(2 eps_n) dF^T, and
 //     the returned strain is the history the next step starts from;
-//  R7 linear elasticity accumulates eps_n + sym(dF - I), returns D : eps and the tangent D.
+//  R7 linear elasticity accumulates eps_n + sym(dF - I), returns D : eps and the tangent D;
+//  R8 both keep their history as one declared state variable, the symmetric tensor
+//     elastic_strain, which their elastic_strain() reads back.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "gradmpm/materials/Material.hpp"
+#include "gradmpm/core/SymmetricTensor.hpp"
+#include "gradmpm/materials/Hencky.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
 
 using namespace gradmpm;
 
 namespace {
 
-Mat9 tangent_of(const Material& m, const Mat3& dF, const Mat3& strain_n) {
+/// update() from an elastic-strain history: the response and the new strain.
+struct Updated {
   MaterialResponse r;
-  m.update(dF, strain_n, r);
+  Mat3 strain;
+};
+Updated respond(const Material& m, const Mat3& dF, const Mat3& strain_n) {
+  double state_n[6], state[6];
+  pack_symmetric(strain_n, state_n);
+  Updated u;
+  m.update(dF, state_n, state, u.r);
+  u.strain = m.elastic_strain(state);
+  return u;
+}
+
+Mat9 isotropic_elasticity(double young, double poisson) { return IsotropicElasticity(young, poisson).tensor(); }
+
+Mat9 tangent_of(const Material& m, const Mat3& dF, const Mat3& strain_n) {
+  const MaterialResponse r = respond(m, dF, strain_n).r;
   Mat9 A;
   m.tangent(r, 3, A);
   return A;
@@ -35,15 +54,14 @@ Mat9 tangent_of(const Material& m, const Mat3& dF, const Mat3& strain_n) {
 
 /// Central differences of tau(dF) along dF -> (I + h E_kl) dF, plus the geometric term.
 Mat9 finite_difference_tangent(const Material& m, const Mat3& dF, const Mat3& strain_n, double h) {
-  MaterialResponse r0, rp, rm;
-  m.update(dF, strain_n, r0);
+  const MaterialResponse r0 = respond(m, dF, strain_n).r;
   Mat9 A;
   for (int k = 0; k < 3; ++k)
     for (int l = 0; l < 3; ++l) {
       Mat3 E = Mat3::Zero();
       E(k, l) = h;
-      m.update((Mat3::Identity() + E) * dF, strain_n, rp);
-      m.update((Mat3::Identity() - E) * dF, strain_n, rm);
+      const MaterialResponse rp = respond(m, (Mat3::Identity() + E) * dF, strain_n).r;
+      const MaterialResponse rm = respond(m, (Mat3::Identity() - E) * dF, strain_n).r;
       const Mat3 dtau = (rp.stress - rm.stress) / (2.0 * h);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) A(3 * i + j, 3 * k + l) = dtau(i, j) - r0.stress(i, l) * (j == k);
@@ -63,8 +81,8 @@ const Hencky hencky(1000.0, 0.3, 1.0);
 /// Daleckii-Krein sum) and B_pqkl = delta_pk b_lq + delta_qk b_pl, as dense 9x9 products.
 Mat9 dense_hencky_tangent(const MaterialResponse& r, double young, double poisson) {
   const auto at = [](int i, int j) { return 3 * i + j; };
-  const Eigen::Vector3d& lam = r.principal;
-  const Mat3& n = r.directions;
+  const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(r.cache.data());  // Hencky's tangent cache
+  const Mat3 n = Eigen::Map<const Mat3>(r.cache.data() + 3);
   const Mat3 be = n * lam.asDiagonal() * n.transpose();
   Mat3 theta;
   for (int a = 0; a < 3; ++a)
@@ -135,8 +153,7 @@ TEST(Hencky, SpectralTangentEqualsTheDenseForm) {
   dF << 0.75, 0.2, -0.1, 0.1, 1.25, 0.15, -0.05, 0.1, 0.9;
   Mat3 eps_n;
   eps_n << 0.05, -0.02, 0.01, -0.02, -0.1, 0.0, 0.01, 0.0, 0.02;
-  MaterialResponse r;
-  hencky.update(dF, eps_n, r);
+  const MaterialResponse r = respond(hencky, dF, eps_n).r;
   Mat9 A;
   hencky.tangent(r, 3, A);
   const Mat9 Ad = dense_hencky_tangent(r, 1000.0, 0.3);
@@ -150,8 +167,7 @@ TEST(Hencky, PlaneAndUniaxialTangentsAreBlocksOfTheFullOne) {
   dF.topLeftCorner<2, 2>() << 0.8, 0.25, -0.1, 1.15;  // plane strain kinematics
   Mat3 eps_n = Mat3::Zero();
   eps_n.topLeftCorner<2, 2>() << 0.03, -0.02, -0.02, -0.06;
-  MaterialResponse r;
-  hencky.update(dF, eps_n, r);
+  const MaterialResponse r = respond(hencky, dF, eps_n).r;
   Mat9 full;
   hencky.tangent(r, 3, full);
   for (int dim : {1, 2}) {
@@ -172,9 +188,8 @@ TEST(Hencky, SmallStrainLimitIsLinearElasticity) {
   g << 0.3, -0.2, 0.1, 0.4, -0.1, 0.25, -0.15, 0.05, 0.2;
   const Mat3 eps = 0.5 * (g + g.transpose());
   for (double t : {1e-3, 1e-4, 1e-5}) {
-    MaterialResponse r;
-    hencky.update(Mat3::Identity() + t * g, Mat3::Zero(), r);
-    const Mat3 linear = hencky.elastic_stress(t * eps);
+    const MaterialResponse r = respond(hencky, Mat3::Identity() + t * g, Mat3::Zero()).r;
+    const Mat3 linear = hencky.elasticity().stress(t * eps);
     const double rel = (r.stress - linear).norm() / linear.norm();
     std::printf("strain scale %.0e: |tau - D:eps| / |D:eps| = %.2e\n", t, rel);
     EXPECT_LT(rel, 5.0 * t);  // O(eps^2) / O(eps)
@@ -188,8 +203,7 @@ TEST(Hencky, StressIsElasticityOfTheLogarithmicStrain) {
   dF << 1.3, 0.2, 0.0, -0.1, 0.7, 0.1, 0.05, 0.0, 1.05;
   Mat3 eps_n;
   eps_n << 0.1, 0.02, 0.0, 0.02, -0.2, 0.0, 0.0, 0.0, 0.05;
-  MaterialResponse r;
-  hencky.update(dF, eps_n, r);
+  const Updated u = respond(hencky, dF, eps_n);
   // Reference: b_e and its logarithm through a general eigen-decomposition.
   Eigen::SelfAdjointEigenSolver<Mat3> en(eps_n);
   const Mat3 be_n = en.eigenvectors() * (2.0 * en.eigenvalues()).array().exp().matrix().asDiagonal() *
@@ -197,8 +211,8 @@ TEST(Hencky, StressIsElasticityOfTheLogarithmicStrain) {
   Eigen::SelfAdjointEigenSolver<Mat3> eb(dF * be_n * dF.transpose());
   const Mat3 eps = eb.eigenvectors() * (0.5 * eb.eigenvalues().array().log()).matrix().asDiagonal() *
                    eb.eigenvectors().transpose();
-  EXPECT_LT((r.strain - eps).norm(), 1e-14);
-  EXPECT_LT((r.stress - hencky.elastic_stress(eps)).norm(), 1e-11);
+  EXPECT_LT((u.strain - eps).norm(), 1e-14);
+  EXPECT_LT((u.r.stress - hencky.elasticity().stress(eps)).norm(), 1e-11);
 }
 
 TEST(LinearElastic, StressAndTangentAreIsotropicElasticity) {
@@ -208,12 +222,28 @@ TEST(LinearElastic, StressAndTangentAreIsotropicElasticity) {
   g << 0.01, 0.002, 0.0, -0.004, -0.003, 0.001, 0.0, 0.002, 0.005;
   Mat3 eps_n = Mat3::Zero();
   eps_n(0, 1) = eps_n(1, 0) = 0.001;
-  MaterialResponse r;
-  lin.update(Mat3::Identity() + g, eps_n, r);
+  const Updated u = respond(lin, Mat3::Identity() + g, eps_n);
   const Mat3 eps = eps_n + 0.5 * (g + g.transpose());
-  EXPECT_LT((r.strain - eps).norm(), 1e-15);
-  EXPECT_LT((r.stress - lin.elastic_stress(eps)).norm(), 1e-13);
+  EXPECT_LT((u.strain - eps).norm(), 1e-15);
+  EXPECT_LT((u.r.stress - lin.elasticity().stress(eps)).norm(), 1e-13);
   Mat9 A;
-  lin.tangent(r, 3, A);
+  lin.tangent(u.r, 3, A);
   EXPECT_EQ(A, D);
+}
+
+TEST(Materials, ElasticLawsDeclareTheirStateAsTheElasticStrainTensor) {
+  const LinearElastic lin(200.0, 0.25, 1.0);
+  for (const Material* m : {static_cast<const Material*>(&hencky), static_cast<const Material*>(&lin)}) {
+    ASSERT_EQ(m->state_variables().size(), 1u) << m->model();
+    EXPECT_EQ(m->state_variables()[0].name, "elastic_strain");
+    EXPECT_EQ(m->state_variables()[0].kind, StateVariable::Kind::SymmetricTensor);
+    EXPECT_EQ(m->state_size(), 6);
+    double s[6];
+    m->initial_state(s);
+    EXPECT_EQ(m->elastic_strain(s), Mat3::Zero());
+    Mat3 e;
+    e << 0.1, 0.02, -0.03, 0.02, -0.2, 0.04, -0.03, 0.04, 0.05;
+    pack_symmetric(e, s);
+    EXPECT_EQ(m->elastic_strain(s), e) << m->model();
+  }
 }

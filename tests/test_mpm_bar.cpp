@@ -8,6 +8,8 @@
 #include <map>
 
 #include "BarTestUtil.hpp"
+#include "gradmpm/materials/Hencky.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
 

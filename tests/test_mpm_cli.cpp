@@ -4,6 +4,7 @@
 //  - the VTK files are complete XML that ParaView reads (.pvd lists each .vtu);
 //  - the 1D and 2D column examples settle to at most 0.7 H0 and meet the closed form;
 //  - a diverging run exits with code 1 and leaves the files of converged steps complete.
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include "CliTestUtil.hpp"
@@ -23,6 +24,8 @@ std::vector<std::vector<double>> rows_of(const std::string& csv, std::string& he
   return rows;
 }
 
+constexpr double kYoung = 80.0;  // examples/column_1d.toml, column_2d.toml
+
 class MpmCli : public ScratchDirTest {
  protected:
   int run(const std::string& args) { return run_gradmpm("run " + args).code; }
@@ -36,12 +39,14 @@ TEST_F(MpmCli, ColumnExamplesWritePointsFinalAndMeetTheClosedForm) {
     ASSERT_EQ(run(example(name) + " --out " + out.string() + " --set output.plot=false"), 0) << slurp(dir / "stderr");
     std::string header;
     const auto rows = rows_of(slurp(out / "points_final.csv"), header);
-    EXPECT_EQ(header, "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass");
+    // The fixed columns, then the material's state variables by name (Hencky: the
+    // logarithmic elastic strain, written as exx ... exz).
+    EXPECT_EQ(header, "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz");
     ASSERT_EQ(rows.size(), std::string(name) == "column_1d.toml" ? 32u : 64u);
     const int axis = std::string(name) == "column_1d.toml" ? 0 : 1;  // height column: X/x in 1D, Y/y in 2D
     double top = 0, mass = 0;
     for (const auto& r : rows) {
-      ASSERT_EQ(r.size(), 15u);
+      ASSERT_EQ(r.size(), 21u);
       top = std::max(top, r[4 + axis]);
       mass += r[14];
       EXPECT_EQ(r[3], 0.0);  // Z unused
@@ -49,6 +54,9 @@ TEST_F(MpmCli, ColumnExamplesWritePointsFinalAndMeetTheClosedForm) {
       if (axis == 0) EXPECT_EQ(r[2], 0.0);  // Y unused in 1D
       const double Y = r[1 + axis], s = r[7 + axis];
       EXPECT_NEAR(s, -1.0 * 10.0 * (10.0 - Y), 0.025 * 100.0) << name << " Y = " << Y;  // measured 1.8 %
+      // Hencky with nu = 0 in uniaxial strain: sigma = tau / J = E eps / exp(eps).
+      const double eps = r[15 + axis];
+      EXPECT_NEAR(s, kYoung * eps / std::exp(eps), 1e-9 * std::abs(s)) << name << " Y = " << Y;
     }
     EXPECT_LT(top, 0.7 * 10.0) << name;
     EXPECT_NEAR(mass, 10.0 * (axis == 0 ? 1.0 : 0.625), 1e-12) << name;

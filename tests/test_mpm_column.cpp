@@ -128,7 +128,7 @@ TEST(MpmColumn, FinalHeightAndMassConservation) {
     int steps = 0;
     run_quasi_static<2>(m, s, [&](const Model<2>&, const StepInfo& info) {
       ++steps;
-      EXPECT_NEAR(info.grid_mass.sum(), total, 1e-12 * total) << "step " << info.step;
+      EXPECT_NEAR(info.grid_mass().sum(), total, 1e-12 * total) << "step " << info.step;
     });
     EXPECT_EQ(steps, 10);
     double top = 0;

@@ -11,6 +11,8 @@
 #include <iostream>
 
 #include "MpmTestUtil.hpp"
+#include "gradmpm/materials/Hencky.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/core/Errors.hpp"
 
 using namespace gradmpm;

@@ -7,6 +7,8 @@
 #include <Eigen/Eigenvalues>
 #include <iostream>
 
+#include "gradmpm/materials/Hencky.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
 

@@ -9,68 +9,51 @@
 #include "gradmpm/io/Csv.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
 #include "gradmpm/io/Python.hpp"
+#include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/app/CommonKeys.hpp"
 
 namespace gradmpm {
 
 BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* mpm) {
-  cf.declare_section("bar", {"length", "elements", "split", "young", "end_displacement", "points_per_element"}, true);
+  const SectionSpec& bar = bar_section();
+  cf.declare(bar);
   if (mpm) {
-    cf.declare_section("gradient", {"variant", "length_scale", "apply", "fields"}, true);
-    cf.declare_section("mpm", {"load_steps", "basis"}, true);
+    SectionSpec gradient = gradient_section();
+    gradient.required = true;
+    cf.declare(gradient);
+    cf.declare(bar_mpm_section());
   } else {
-    cf.declare_section("gradient", {"variant", "length_scale"}, true);
+    cf.declare(bar_gradient_section());
   }
-  cf.declare_section("output", {"plot"}, false);
+  cf.declare(bar_output_section());
   declare_linear_solver_section(cf);
   cf.reject_unknown();
 
   BarConfig c;
-  c.length = cf.number("bar.length");
-  cf.require(c.length > 0.0, "bar.length", "a length > 0");
-
-  const long long elements = cf.integer("bar.elements");
-  cf.require(elements >= 1 && elements <= 50'000'000, "bar.elements", "an integer from 1 to 50000000");
-  c.elements = static_cast<int>(elements);
-
-  c.split = cf.number("bar.split");
-  cf.require(c.split > 0.0 && c.split < 1.0, "bar.split", "a fraction of the length strictly between 0 and 1");
-
+  c.length = read_number(cf, "bar", bar.key("length"));
+  c.elements = static_cast<int>(read_integer(cf, "bar", bar.key("elements")));
+  c.split = read_number(cf, "bar", bar.key("split"));
   const auto young = cf.numbers("bar.young", 2);
-  cf.require(young[0] > 0.0 && young[1] > 0.0, "bar.young", "two Young's moduli > 0 ([left, right])");
+  cf.require(young[0] > 0.0 && young[1] > 0.0, "bar.young", bar.key("young").expected());
   c.young_left = young[0];
   c.young_right = young[1];
+  c.end_displacement = read_number(cf, "bar", bar.key("end_displacement"));
+  c.points_per_element = static_cast<int>(read_integer(cf, "bar", bar.key("points_per_element")));
 
-  c.end_displacement = cf.number("bar.end_displacement");
-
-  const long long ppe = cf.integer_or("bar.points_per_element", 2);
-  cf.require(ppe >= 1 && ppe <= 4, "bar.points_per_element", "an integer from 1 to 4 (Gauss points per element)");
-  c.points_per_element = static_cast<int>(ppe);
-
-  const std::string variant = cf.string("gradient.variant");
-  const auto v = parse_gradient_variant(variant);
-  cf.require(v.has_value(), "gradient.variant", "one of \"u-RA\", \"e-RA\", \"s-RA\", \"none\"");
-  c.variant = *v;
-
-  if (c.variant == GradientVariant::None) {
-    c.length_scale = cf.number_or("gradient.length_scale", 0.0);
-  } else {
-    c.length_scale = cf.number("gradient.length_scale");
-  }
-  cf.require(c.length_scale >= 0.0, "gradient.length_scale", "a length scale l >= 0");
-
+  const SectionSpec& gradient = bar_gradient_section();
+  c.variant = *parse_gradient_variant(read_string(cf, "gradient", gradient.key("variant")));
+  c.length_scale = c.variant == GradientVariant::None ? cf.number_or("gradient.length_scale", 0.0)
+                                                      : read_number(cf, "gradient", gradient.key("length_scale"));
+  cf.require(c.length_scale >= 0.0, "gradient.length_scale", gradient.key("length_scale").expected());
   c.solver = read_linear_solver_settings(cf);
-
-  output.plot = cf.boolean_or("output.plot", true);
+  output.plot = read_boolean(cf, "output", bar_output_section().key("plot"));
   if (mpm) {
     mpm->bar = c;
     mpm->gradient = read_gradient_settings(cf);
-    const long long steps = cf.integer("mpm.load_steps");
-    cf.require(steps >= 1 && steps <= 1'000'000, "mpm.load_steps", "an integer from 1 to 1000000");
-    mpm->load_steps = static_cast<int>(steps);
-    const auto basis = parse_basis(cf.string_or("mpm.basis", "mpm"));
-    cf.require(basis.has_value(), "mpm.basis", "\"mpm\", \"gimp\" or \"cpgimp\"");
-    mpm->basis = *basis;
+    mpm->gradient.linear_solver = c.solver;
+    const SectionSpec& m = bar_mpm_section();
+    mpm->load_steps = static_cast<int>(read_integer(cf, "mpm", m.key("load_steps")));
+    mpm->basis = *parse_basis(read_string(cf, "mpm", m.key("basis")));
   }
   return c;
 }

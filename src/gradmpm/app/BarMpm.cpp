@@ -35,10 +35,7 @@ BarResult solve_bar_mpm(const BarMpmConfig& cfg, double* gradient_seconds, doubl
   s.load_steps = cfg.load_steps;
   s.linear_solver = c.solver;
   double t_cls = 0;
-  run_quasi_static<1>(m, s, [&](const Model<1>& mm, const StepInfo& info) {
-    t_cls += info.seconds;
-    gradient.after_step(mm, false, info.load_factor >= 1.0);
-  });
+  run_quasi_static<1>(m, s, {&gradient}, [&](const Model<1>&, const StepInfo& info) { t_cls += info.seconds; });
   // variant "none": the classical fields stand for the gradient ones
   const EnrichedFields<1> g = gradient.fields() ? *gradient.fields() : smooth_total<1>(m, cfg.gradient);
   if (gradient_seconds) *gradient_seconds = gradient.seconds();
@@ -50,10 +47,10 @@ BarResult solve_bar_mpm(const BarMpmConfig& cfg, double* gradient_seconds, doubl
   const int np = m.points.size();
   std::vector<double> uc(np), ug(np);
   for (int p = 0; p < np; ++p) {
-    r.point_young.push_back(m.materials[m.points.material[p]]->young);
+    r.point_young.push_back(m.material_of(p).elasticity().young);
     uc[p] = m.points.position[p][0] - m.points.original_position[p][0];
     ug[p] = g.displacement[p][0];
-    r.point_strain_classical.push_back(m.points.strain[p](0, 0));
+    r.point_strain_classical.push_back(m.elastic_strain(p)(0, 0));
     r.point_stress_classical.push_back(m.points.stress[p](0, 0));
     r.point_strain_gradient.push_back(g.strain[p](0, 0));
     r.point_stress_gradient.push_back(g.stress[p](0, 0));

@@ -27,8 +27,10 @@ std::vector<double> point_strains(const PointStencils<1>& st, const Vector& u) {
 
 /// The bar's axial modulus: the xx-xx entry of the material's tangent (E for nu = 0).
 double axial_modulus(const Material& m) {
+  std::vector<double> state_n(m.state_size()), state(m.state_size());
+  m.initial_state(state_n.data());
   MaterialResponse r;
-  m.update(Mat3::Identity(), Mat3::Zero(), r);
+  m.update(Mat3::Identity(), state_n.data(), state.data(), r);
   Mat9 A;
   m.tangent(r, 1, A);
   return A(0, 0);
@@ -37,10 +39,15 @@ double axial_modulus(const Material& m) {
 std::vector<double> point_stresses(const BarResult& r, const std::vector<double>& eps) {
   std::vector<double> sig(eps.size());
   MaterialResponse resp;
+  std::vector<double> state_n, state;
   for (std::size_t p = 0; p < eps.size(); ++p) {
     Mat3 dF = Mat3::Identity();
     dF(0, 0) += eps[p];
-    r.materials[r.points.material[p]].update(dF, Mat3::Zero(), resp);
+    const Material& m = r.materials[r.points.material[p]];
+    state_n.resize(m.state_size());
+    state.resize(m.state_size());
+    m.initial_state(state_n.data());
+    m.update(dF, state_n.data(), state.data(), resp);
     sig[p] = resp.stress(0, 0);
   }
   return sig;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "gradmpm/gradient/Variant.hpp"
-#include "gradmpm/materials/Material.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
@@ -11,45 +12,38 @@ void declare_linear_solver_section(CaseFile& cf) {
   for (const char* old : {"solver.linear", "nonlinear_solver.linear_solver"})
     if (cf.has(old))
       throw InputError(fmt::format("{}: {}: this key is now [linear_solver] type (docs/case-files.md)", cf.name(), old));
-  cf.declare_section("linear_solver", {"type", "general", "pcg_tolerance", "pcg_max_iterations"}, false);
+  cf.declare(linear_solver_section());
 }
 
 LinearSolverSettings read_linear_solver_settings(const CaseFile& cf) {
   const auto& registry = LinearSolverRegistry::instance();
+  const SectionSpec& sec = linear_solver_section();
   LinearSolverSettings s;
-  s.type = cf.string_or("linear_solver.type", s.type);
-  cf.require(registry.find(s.type) != nullptr, "linear_solver.type", "one of " + registry.quoted_names());
-  s.general = cf.string_or("linear_solver.general", s.general);
+  s.type = read_string(cf, sec.name, sec.key("type"));
+  cf.require(registry.find(s.type) != nullptr, "linear_solver.type", sec.key("type").expected());
+  s.general = read_string(cf, sec.name, sec.key("general"));
   const auto* general = registry.find(s.general);
-  cf.require(general && general->general, "linear_solver.general",
-             "a solver of general matrices, one of " + registry.quoted_names(true));
-  s.pcg_tolerance = cf.number_or("linear_solver.pcg_tolerance", s.pcg_tolerance);
-  cf.require(s.pcg_tolerance > 0.0 && s.pcg_tolerance < 1.0, "linear_solver.pcg_tolerance", "a number in (0, 1)");
-  const long long its = cf.integer_or("linear_solver.pcg_max_iterations", s.pcg_max_iterations);
-  cf.require(its >= 0 && its <= 100'000'000, "linear_solver.pcg_max_iterations",
-             "an integer from 0 (scaled to the problem) to 100000000");
-  s.pcg_max_iterations = static_cast<int>(its);
+  cf.require(general && general->general, "linear_solver.general", sec.key("general").expected());
+  s.pcg_tolerance = read_number(cf, sec.name, sec.key("pcg_tolerance"));
+  s.pcg_max_iterations = static_cast<int>(read_integer(cf, sec.name, sec.key("pcg_max_iterations")));
   return s;
 }
 
 GradientSettings read_gradient_settings(const CaseFile& cf) {
+  const SectionSpec& sec = gradient_section();
   GradientSettings g;
-  const auto v = parse_gradient_variant(cf.string_or("gradient.variant", "none"));
-  cf.require(v.has_value(), "gradient.variant", "one of \"u-RA\", \"e-RA\", \"s-RA\", \"none\"");
-  g.variant = *v;
+  g.variant = *parse_gradient_variant(read_string(cf, sec.name, sec.key("variant")));
   if (g.variant == GradientVariant::None) {
-    for (const char* k : {"gradient.length_scale", "gradient.apply", "gradient.fields"})
-      cf.require(!cf.has(k), k, "no such key when gradient.variant = \"none\" (it would have no effect)");
+    for (const char* k : {"length_scale", "apply", "fields"})
+      cf.require(!cf.has(sec.name + "." + k), sec.name + "." + k,
+                 "no such key when gradient.variant = \"none\" (it would have no effect)");
     return g;
   }
-  g.length_scale = cf.number("gradient.length_scale");
-  cf.require(g.length_scale >= 0.0, "gradient.length_scale", "a length scale l >= 0");
-  const std::string apply = cf.string_or("gradient.apply", "each_step");
-  cf.require(apply == "each_step" || apply == "end", "gradient.apply", "\"each_step\" or \"end\"");
-  g.apply = apply == "end" ? GradientApply::End : GradientApply::EachStep;
-  const std::string fields = cf.string_or("gradient.fields", g.apply == GradientApply::End ? "grid" : "points");
-  cf.require(fields == "points" || fields == "grid", "gradient.fields", "\"points\" or \"grid\"");
-  g.fields = fields == "grid" ? GradientFields::Grid : GradientFields::Points;
+  g.length_scale = read_number(cf, sec.name, sec.key("length_scale"));
+  g.apply = read_string(cf, sec.name, sec.key("apply")) == "end" ? GradientApply::End : GradientApply::EachStep;
+  KeySpec fields = sec.key("fields");
+  fields.default_value = std::string(g.apply == GradientApply::End ? "grid" : "points");
+  g.fields = read_string(cf, sec.name, fields) == "grid" ? GradientFields::Grid : GradientFields::Points;
   cf.require(!(g.apply == GradientApply::End && g.fields == GradientFields::Points), "gradient.fields",
              "\"grid\" when gradient.apply = \"end\" (a single smoothing at the end has nothing for the points "
              "to carry between steps)");

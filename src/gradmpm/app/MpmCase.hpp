@@ -1,8 +1,11 @@
 #pragma once
 // MPM case files ([grid], [basis], [materials.NAME], [[bodies]], [loads], [[constraints]],
-// [[point_loads]], [load_steps], [nonlinear_solver], [output]; docs/case-files.md) and
-// the run that writes VTK, CSV and the terminal progress.
+// [[point_loads]], [load_steps], [nonlinear_solver], [linear_solver], [output],
+// [gradient]; keys declared in app/CaseKeys.cpp, docs/case-files.md): reading returns
+// one value, MpmCase; run_mpm_case solves it and writes VTK, CSV and the progress.
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "gradmpm/gradient/MpmGradient.hpp"
 #include "gradmpm/io/CaseFile.hpp"
@@ -10,20 +13,29 @@
 
 namespace gradmpm {
 
-struct MpmOutputOptions {
-  int vtk_every = 1;               ///< write VTK every n steps (and the last); 0: never
-  std::vector<long long> track;    ///< point ids written to tracked_points.csv each step
-  std::string check;               ///< "" or "column": compare with the column closed form
-  bool plot = true;                ///< with check = "column": column.png
+struct MpmOutputSettings {
+  int vtk_every = 1;             ///< write VTK every n steps (and the last); 0: never
+  std::vector<long long> track;  ///< point ids written to tracked_points.csv each step
+  std::string check;             ///< "" or "column": compare with the column closed form
+  bool plot = true;              ///< with check = "column": column.png
+};
+
+/// Everything a case file describes.
+template <int dim>
+struct MpmCase {
+  Model<dim> model;
+  NewtonSettings newton;
+  GradientSettings gradient;
+  MpmOutputSettings output;
 };
 
 /// Spatial dimension of an MPM case (the length of grid.cells).
 int mpm_case_dimension(const CaseFile& cf);
 
-/// Reads and validates every key and builds the model; throws InputError naming the key.
+/// Reads and validates every key and builds the model (points with their initial
+/// material state); throws InputError naming the key.
 template <int dim>
-Model<dim> read_mpm_case(CaseFile& cf, NewtonSettings& newton, MpmOutputOptions& output,
-                         GradientSettings* gradient = nullptr);
+MpmCase<dim> read_mpm_case(CaseFile& cf);
 
 /// Reads, runs and writes the outputs of an MPM case in `out_dir`.
 void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet);

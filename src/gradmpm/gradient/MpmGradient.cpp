@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
 #include "gradmpm/points/Transfer.hpp"
@@ -12,9 +13,6 @@
 namespace gradmpm {
 
 namespace {
-
-/// The six independent components of a symmetric 3x3 tensor.
-constexpr int kSym[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 
 /// Everything the smoothing needs on the points' current configuration: stencils,
 /// scalar equation numbering, pattern, assembler, and the factorised operators (one for
@@ -37,8 +35,8 @@ class SmoothingContext {
   /// interpolated back in one pass.
   std::vector<Mat3> smooth_tensor(const std::vector<Mat3>& t) {
     std::vector<std::array<int, 2>> comps;
-    for (const auto& ij : kSym)
-      if (ij[0] == ij[1] || (ij[0] < dim && ij[1] < dim)) comps.push_back({ij[0], ij[1]});
+    for (const auto& c : kSymmetricComponents)
+      if (c.i == c.j || (c.i < dim && c.j < dim)) comps.push_back({c.i, c.j});
     const int nc = static_cast<int>(comps.size());
     if (!natural_) natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_);
     const Eigen::MatrixXd G =
@@ -48,11 +46,6 @@ class SmoothingContext {
     return out;
   }
 
-  /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
-  /// classical problem holds that component. The held values are the classical field's
-  /// own nodal values: with the grid reset after every step these are not stored, so
-  /// they are the L2 projection of the point field, M u = sum_p N c_p V_p (exact for
-  /// linear fields; the prescribed value itself in the FEM limit). Returns nodal values.
   /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
   /// classical problem holds that component. The held values are the classical field's
   /// own nodal values: with the grid reset after every step these are not stored, so
@@ -111,7 +104,7 @@ class SmoothingContext {
 /// Jacobian that turns the material's stress measure into Cauchy stress.
 template <int dim>
 double stress_jacobian(const Model<dim>& m, int p) {
-  return m.materials[m.points.material[p]]->finite_strain() ? m.points.F[p].determinant() : 1.0;
+  return m.material_of(p).finite_strain() ? m.points.F[p].determinant() : 1.0;
 }
 
 /// u-RA: smoothed displacement (increment or total) at the points and its gradient in
@@ -145,12 +138,12 @@ void complete(const Model<dim>& m, GradientVariant v, EnrichedFields<dim>& f) {
   const int np = m.points.size();
 #pragma omp parallel for schedule(static) if (use_threads(np))
   for (int p = 0; p < np; ++p) {
-    const Material& mat = *m.materials[m.points.material[p]];
+    const IsotropicElasticity& mat = m.material_of(p).elasticity();
     const double J = stress_jacobian(m, p);
     if (v == GradientVariant::S_RA)
-      f.strain[p] = mat.elastic_strain(J * f.stress[p]);
+      f.strain[p] = mat.strain(J * f.stress[p]);
     else
-      f.stress[p] = mat.elastic_stress(f.strain[p]) / J;
+      f.stress[p] = mat.stress(f.strain[p]) / J;
   }
 }
 
@@ -165,7 +158,7 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
   for (int p = 0; p < n; ++p) u[p] = m.points.position[p] - m.points.original_position[p];
   if (s.variant == GradientVariant::None) {
     f.displacement = u;
-    f.strain = m.points.strain;
+    f.strain = m.elastic_strains();
     f.stress = m.points.stress;
     return f;
   }
@@ -179,7 +172,7 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
     }
     case GradientVariant::E_RA:
       f.displacement = u;
-      f.strain = ctx.smooth_tensor(m.points.strain);
+      f.strain = ctx.smooth_tensor(m.elastic_strains());
       break;
     case GradientVariant::S_RA:
       f.displacement = u;
@@ -195,9 +188,9 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
 
 template <int dim>
 GradientTracker<dim>::GradientTracker(const Model<dim>& m, const GradientSettings& s)
-    : settings_(s), prev_position_(m.points.position), prev_strain_(m.points.strain), prev_stress_(m.points.stress) {
+    : settings_(s), prev_position_(m.points.position), prev_strain_(m.elastic_strains()), prev_stress_(m.points.stress) {
   fields_.resize(m.points.size());
-  fields_.strain = m.points.strain;
+  fields_.strain = prev_strain_;
   fields_.stress = m.points.stress;
   for (int p = 0; p < m.points.size(); ++p) fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
 }
@@ -210,7 +203,7 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
   if (v != GradientVariant::U_RA)  // e-RA, s-RA and none keep the classical displacement
     for (int p = 0; p < n; ++p) fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
   if (v == GradientVariant::None) {
-    fields_.strain = m.points.strain;
+    fields_.strain = m.elastic_strains();
     fields_.stress = m.points.stress;
   } else {
     SmoothingContext<dim> ctx(m, settings_.length_scale, settings_.linear_solver);
@@ -225,16 +218,17 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
       }
     } else {
       const bool strain = v == GradientVariant::E_RA;
+      const std::vector<Mat3> eps = strain ? m.elastic_strains() : std::vector<Mat3>{};
       std::vector<Mat3> d(n);
       for (int p = 0; p < n; ++p)
-        d[p] = strain ? Mat3(m.points.strain[p] - prev_strain_[p]) : Mat3(m.points.stress[p] - prev_stress_[p]);
+        d[p] = strain ? Mat3(eps[p] - prev_strain_[p]) : Mat3(m.points.stress[p] - prev_stress_[p]);
       const std::vector<Mat3> g = ctx.smooth_tensor(d);
       for (int p = 0; p < n; ++p) (strain ? fields_.strain[p] : fields_.stress[p]) += g[p];
     }
     complete(m, v, fields_);
   }
   prev_position_ = m.points.position;
-  prev_strain_ = m.points.strain;
+  prev_strain_ = m.elastic_strains();
   prev_stress_ = m.points.stress;
   seconds_ += seconds_since(t0);
 }
@@ -245,11 +239,11 @@ GradientStep<dim>::GradientStep(const Model<dim>& m, const GradientSettings& s) 
 }
 
 template <int dim>
-void GradientStep<dim>::after_step(const Model<dim>& m, bool report, bool last) {
+void GradientStep<dim>::after_step(Model<dim>& m, const StepInfo& info) {
   if (!enabled()) return;
   if (tracker_) {
     tracker_->after_step(m);
-  } else if (last || (settings_.apply == GradientApply::EachStep && report)) {
+  } else if (info.last || settings_.apply == GradientApply::EachStep) {
     const auto t0 = Clock::now();
     latest_ = smooth_total<dim>(m, settings_);
     seconds_ += seconds_since(t0);

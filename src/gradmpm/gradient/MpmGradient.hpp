@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "gradmpm/gradient/Variant.hpp"
-#include "gradmpm/mpm/Model.hpp"
+#include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 
 namespace gradmpm {
@@ -85,17 +85,18 @@ class GradientTracker {
   double seconds_ = 0.0;
 };
 
-/// The gradient step of a run, as the settings ask: call after_step() after every
-/// converged load step; it accumulates (fields = points) or recomputes the total field
-/// when it is reported (fields = grid: every reported step with apply = each_step, the
-/// last step with apply = end). Times itself.
+/// The gradient step of a run as the settings ask, a post-step stage of the driver:
+/// after every converged load step it accumulates the smoothed increments (fields =
+/// points) or recomputes the total field (fields = grid: after every step with apply =
+/// each_step, after the last with apply = end). When it runs does not depend on the
+/// output schedule. Times itself.
 template <int dim>
-class GradientStep {
+class GradientStep final : public PostStepStage<dim> {
  public:
   GradientStep(const Model<dim>& model, const GradientSettings& s);
   bool enabled() const { return settings_.variant != GradientVariant::None; }
-  /// `report`: the caller writes output for this step; `last`: the final step.
-  void after_step(const Model<dim>& model, bool report, bool last);
+  std::string name() const override { return "gradient"; }
+  void after_step(Model<dim>& model, const StepInfo& info) override;
   /// The latest enriched fields, or null when none have been computed yet.
   const EnrichedFields<dim>* fields() const;
   double seconds() const { return seconds_ + (tracker_ ? tracker_->seconds() : 0.0); }

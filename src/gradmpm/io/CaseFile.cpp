@@ -117,8 +117,8 @@ bool CaseFile::has_section(std::string_view section) const {
   return n && n->is_table();
 }
 
-void CaseFile::declare_section(const std::string& section, std::initializer_list<std::string> keys, bool required) {
-  declared_[section] = {Kind::Section, std::vector<std::string>(keys)};
+void CaseFile::declare_section(const std::string& section, const std::vector<std::string>& keys, bool required) {
+  declared_[section] = {Kind::Section, keys};
   const toml::node* n = table_.get(section);
   if (n && !n->is_table())
     throw InputError(fmt::format("{}: {}: expected a section [{}], got a value", name_, section, section));
@@ -126,15 +126,15 @@ void CaseFile::declare_section(const std::string& section, std::initializer_list
     throw InputError(fmt::format("{}: missing section [{}] (keys: {})", name_, section, join(declared_[section].keys)));
 }
 
-void CaseFile::declare_array(const std::string& name, std::initializer_list<std::string> keys) {
-  declared_[name] = {Kind::Array, std::vector<std::string>(keys)};
+void CaseFile::declare_array(const std::string& name, const std::vector<std::string>& keys) {
+  declared_[name] = {Kind::Array, keys};
   const toml::node* n = table_.get(name);
   if (n && !n->is_array_of_tables())
     throw InputError(fmt::format("{}: {}: expected an array of tables [[{}]]", name_, name, name));
 }
 
-void CaseFile::declare_table_of_sections(const std::string& name, std::initializer_list<std::string> keys) {
-  declared_[name] = {Kind::TableOfSections, std::vector<std::string>(keys)};
+void CaseFile::declare_table_of_sections(const std::string& name, const std::vector<std::string>& keys) {
+  declared_[name] = {Kind::TableOfSections, keys};
   const toml::node* n = table_.get(name);
   if (!n) return;
   if (!n->is_table()) throw InputError(fmt::format("{}: {}: expected sections [{}.NAME]", name_, name, name));
@@ -142,6 +142,20 @@ void CaseFile::declare_table_of_sections(const std::string& name, std::initializ
     if (!v.is_table())
       throw InputError(fmt::format("{}: {}.{}: expected a section [{}.{}], got a value", name_, name, k.str(), name,
                                    k.str()));
+}
+
+void CaseFile::declare(const SectionSpec& spec) {
+  switch (spec.kind) {
+    case SectionKind::Section: return declare_section(spec.name, spec.key_names(), spec.required);
+    case SectionKind::Array: return declare_array(spec.name, spec.key_names());
+    case SectionKind::TableOfSections: return declare_table_of_sections(spec.name, spec.key_names());
+  }
+}
+
+void CaseFile::check_section_keys(const std::string& section, const std::vector<std::string>& keys,
+                                  const std::string& whose) const {
+  if (const toml::node* n = find(section); n && n->is_table())
+    check_keys(*n->as_table(), section, keys, whose);
 }
 
 std::size_t CaseFile::array_size(const std::string& name) const {

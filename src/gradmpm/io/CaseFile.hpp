@@ -16,6 +16,8 @@
 
 #include <toml++/toml.h>
 
+#include "gradmpm/io/Keys.hpp"
+
 namespace gradmpm {
 
 class CaseFile {
@@ -32,12 +34,18 @@ class CaseFile {
   bool has_section(std::string_view section) const;
 
   /// Declares the keys a section may hold; `required` sections must be present.
-  void declare_section(const std::string& section, std::initializer_list<std::string> keys,
+  void declare_section(const std::string& section, const std::vector<std::string>& keys,
                        bool required);
   /// Declares an array of tables ([[name]]) and the keys each entry may hold.
-  void declare_array(const std::string& name, std::initializer_list<std::string> keys);
+  void declare_array(const std::string& name, const std::vector<std::string>& keys);
   /// Declares a table of tables ([name.X] for any X) and the keys each may hold.
-  void declare_table_of_sections(const std::string& name, std::initializer_list<std::string> keys);
+  void declare_table_of_sections(const std::string& name, const std::vector<std::string>& keys);
+  /// Declares a section from its spec (io/Keys.hpp): the key names come from there.
+  void declare(const SectionSpec& spec);
+  /// Throws on a key of the section `section` ("materials.soil") not in `keys`; `whose`
+  /// says whose keys they are in the message (e.g. "model \"hencky\"").
+  void check_section_keys(const std::string& section, const std::vector<std::string>& keys,
+                          const std::string& whose) const;
   /// Number of entries of an array of tables (0 when absent).
   std::size_t array_size(const std::string& name) const;
   /// Names of the sub-tables of a table of sections, in file order.

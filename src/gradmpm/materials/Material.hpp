@@ -1,88 +1,94 @@
 #pragma once
-// The constitutive interface of the implicit MPM. A material answers, for one point and
-// one Newton iterate, "given the deformation-gradient increment dF of this load step and
-// the history at the start of the step, what are the stress and the new history?"
+// The constitutive interface of the implicit MPM (the pattern of geomechanics/mpm's
+// Material and deal.II step-44's material classes). A material answers, for one point
+// and one Newton iterate, "given the deformation-gradient increment dF of this load step
+// and the history at the start of the step, what are the stress and the new history?"
 // (update), and "what is the consistent tangent at that state?" (tangent). The two are
 // separate because Newton needs the tangent only when the residual has not converged,
-// and the global assembly forms it point by point without storing it. Tensors are 3x3 in every dimension (plane strain and 1D uniaxial
-// strain embed their dim x dim blocks); fourth-order tensors are 9x9 with row i*3+j and
-// column k*3+l.
+// and the global assembly forms it point by point without storing it.
+//
+// History is the material's own: it declares its state variables (names, kinds,
+// initial values); the points keep every point's state in one flat block
+// (MaterialPoints::state) and the driver copies the trial state in on convergence, so
+// neither the points nor the driver know what a law stores. Every state variable reaches
+// the VTU files and points_final.csv by name.
+//
+// Tensors are 3x3 in every dimension (plane strain and 1D uniaxial strain embed their
+// dim x dim blocks); fourth-order tensors are 9x9 with row i*3+j and column k*3+l.
+//
+// Recipe "add a material" (docs/architecture.md): one header and source under
+// materials/ with a class derived from Material and a MaterialInfo (model name, keys,
+// make), plus one registration line in MaterialRegistry.cpp; tests/test_materials.cpp
+// registers a toy law defined only in the test the same way.
 #include <Eigen/Core>
-#include <memory>
+#include <array>
 #include <string>
+#include <vector>
+
+#include "gradmpm/materials/Elasticity.hpp"
 
 namespace gradmpm {
 
-using Mat3 = Eigen::Matrix3d;
-using Mat9 = Eigen::Matrix<double, 9, 9>;
+/// One named piece of a material's history.
+struct StateVariable {
+  enum class Kind { Scalar, SymmetricTensor };
+  std::string name;  ///< as written in outputs: VTU array name; CSV column (tensors: name_xx, ...)
+  Kind kind = Kind::Scalar;
+  double initial = 0.0;  ///< initial value (of every component)
+  std::string doc;
+  int size() const { return kind == Kind::Scalar ? 1 : 6; }
+};
 
 /// What update() leaves for the caller and for tangent().
 struct MaterialResponse {
-  Mat3 stress;                ///< Kirchhoff tau (finite strain) or Cauchy sigma (small strain)
-  Mat3 strain;                ///< new elastic (logarithmic or small) strain: the history to keep
-  Eigen::Vector3d principal;  ///< finite strain: principal values of the trial b_e
-  Mat3 directions;            ///< finite strain: their directions (columns)
+  static constexpr int cache_capacity = 16;
+  Mat3 stress;  ///< Kirchhoff tau (finite strain) or Cauchy sigma (small strain)
+  /// Whatever the material's tangent() needs from its update(), e.g. principal stretches
+  /// and directions. Fixed capacity: no allocation per point.
+  std::array<double, cache_capacity> cache;
 };
 
 class Material {
  public:
+  Material(const IsotropicElasticity& e, double rho) : elasticity_(e), density_(rho) {}
   virtual ~Material() = default;
+
+  /// The registry's model name ("hencky", ...).
+  virtual std::string model() const = 0;
   /// true: updated-Lagrangian finite strain (stress is Kirchhoff, gradients are taken in
   /// the current configuration); false: incremental small strain on the configuration at
   /// the start of the load step.
   virtual bool finite_strain() const = 0;
+  /// false: the consistent tangent is not symmetric (e.g. non-associated flow); the
+  /// global tangent is then solved by a general solver, never symmetrised.
+  virtual bool symmetric_tangent() const { return true; }
+  /// The state variables, in the order of the state block.
+  virtual const std::vector<StateVariable>& state_variables() const = 0;
+
   /// `dF`: deformation gradient of the step's displacement increment, I + d(du)/dx_n.
-  /// `strain_n`: the history (elastic strain) at the start of the step.
-  virtual void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const = 0;
+  /// `state_n`: the history at the start of the step (state_size() values); `state`:
+  /// where the new history goes. Fills `out` for tangent().
+  virtual void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const = 0;
   /// The consistent tangent at the state `r` that update() returned:
   /// A_ijkl with d(stress_ij grad_j eta_i) = grad_j eta_i A_ijkl grad_l du_k.
   /// Entries with every index below `dim` are computed (plane strain and 1D need no
   /// more); a material may leave the others zero. dim = 3 gives the whole tensor.
   virtual void tangent(const MaterialResponse& r, int dim, Mat9& A) const = 0;
-  virtual std::string name() const = 0;
+  /// The elastic strain held in a state (logarithmic for finite strain): the field the
+  /// gradient step smooths for e-RA and the VTU files' elastic_strain.
+  virtual Mat3 elastic_strain(const double* state) const = 0;
 
-  /// Isotropic elasticity D : eps (lambda tr eps I + 2 mu eps) and its inverse. The
-  /// gradient step uses them to pair smoothed strains with stresses (gradient
-  /// elasticity is a linear theory; with Hencky, eps is the logarithmic strain and the
-  /// stress the Kirchhoff stress).
-  Mat3 elastic_stress(const Mat3& eps) const;
-  Mat3 elastic_strain(const Mat3& stress) const;
+  /// The isotropic elasticity; the gradient step pairs smoothed strains with stresses by it.
+  const IsotropicElasticity& elasticity() const { return elasticity_; }
+  double density() const { return density_; }  ///< reference mass density rho_0
 
-  double density = 0.0;  ///< reference mass density rho_0
-  double young = 0.0;
-  double poisson = 0.0;
-};
-
-/// Isotropic elasticity tensor D_ijkl = lambda d_ij d_kl + mu (d_ik d_jl + d_il d_jk).
-Mat9 isotropic_elasticity(double young, double poisson);
-
-/// sigma = D : eps with eps accumulated from sym(dF - I): small-strain linear elasticity.
-class LinearElastic final : public Material {
- public:
-  LinearElastic(double young, double poisson, double rho);
-  bool finite_strain() const override { return false; }
-  void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const override;
-  void tangent(const MaterialResponse&, int, Mat9& A) const override { A = D_; }
-  std::string name() const override { return "linear-elastic"; }
+  int state_size() const;
+  /// Writes the initial values of every state variable.
+  void initial_state(double* state) const;
 
  private:
-  Mat9 D_;
-};
-
-/// Hencky (logarithmic-strain) hyperelasticity: tau = D : eps_e, eps_e = 1/2 ln b_e,
-/// b_e = dF exp(2 eps_e,n) dF^T, sigma = tau / det F. The consistent tangent is
-/// A = 1/2 D : L : B - tau_il d_jk with L = d ln(b)/d b and B_pqkl = d_pk b_lq + d_qk b_pl.
-class Hencky final : public Material {
- public:
-  Hencky(double young, double poisson, double rho);
-  bool finite_strain() const override { return true; }
-  void update(const Mat3& dF, const Mat3& strain_n, MaterialResponse& out) const override;
-  void tangent(const MaterialResponse& r, int dim, Mat9& A) const override;
-  std::string name() const override { return "hencky"; }
-
- private:
-  Mat9 D_;
-  double lambda_, mu_;
+  IsotropicElasticity elasticity_;
+  double density_;
 };
 
 }  // namespace gradmpm

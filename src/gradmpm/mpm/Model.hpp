@@ -1,6 +1,8 @@
 #pragma once
 // Everything an implicit quasi-static MPM analysis needs: the background grid, the
 // material points, the materials, the basis, the loads and the grid constraints.
+#include <algorithm>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -30,6 +32,45 @@ struct Model {
   std::vector<NodalConstraint> constraints;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}
+
+  /// Sizes the points' state block for the materials and writes every point's initial
+  /// state. The driver calls it when the block does not match (a model built in code).
+  void initialise_state() {
+    const int stride = state_stride();
+    points.state_stride = stride;
+    points.state.assign(static_cast<std::size_t>(points.size()) * stride, 0.0);
+    for (int p = 0; p < points.size(); ++p) materials[points.material[p]]->initial_state(points.state_of(p));
+  }
+  bool state_initialised() const {
+    return points.state_stride == state_stride() &&
+           points.state.size() == static_cast<std::size_t>(points.size()) * points.state_stride;
+  }
+  /// The largest state of the materials: values per point in the state block.
+  int state_stride() const {
+    int stride = 0;
+    for (const auto& m : materials) stride = std::max(stride, m->state_size());
+    return stride;
+  }
+  /// false when some material's consistent tangent is not symmetric.
+  bool symmetric_tangent() const {
+    for (const auto& m : materials)
+      if (!m->symmetric_tangent()) return false;
+    return true;
+  }
+  const Material& material_of(int p) const { return *materials[points.material[p]]; }
+  /// The elastic strain of point p (from its material's state; the initial state before
+  /// the state block is initialised).
+  Mat3 elastic_strain(int p) const {
+    if (state_initialised()) return material_of(p).elastic_strain(points.state_of(p));
+    std::vector<double> initial(material_of(p).state_size());
+    material_of(p).initial_state(initial.data());
+    return material_of(p).elastic_strain(initial.data());
+  }
+  std::vector<Mat3> elastic_strains() const {
+    std::vector<Mat3> e(points.size());
+    for (int p = 0; p < points.size(); ++p) e[p] = elastic_strain(p);
+    return e;
+  }
 };
 
 struct NewtonSettings {
@@ -69,9 +110,13 @@ struct StepInfo {
   int cuts = 0;                  ///< halvings needed before this step converged
   std::vector<double> residuals; ///< normalised out-of-balance force per Newton iteration
   int indefinite_solves = 0;     ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
-  Vector grid_displacement;      ///< the step's displacement increment at every grid node (dim per node)
-  Vector grid_mass;              ///< nodal mass sum_p N_i m_p (eq. 1)
-  double seconds = 0.0;
+  bool last = false;             ///< the step that reaches load factor 1
+  /// Grid fields of the step, computed only when called (outputs ask for them on the
+  /// steps they write); valid during the post-step stages and the observer call only.
+  std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
+  std::function<Vector()> grid_mass;          ///< nodal mass sum_p N_i m_p (eq. 1)
+  double seconds = 0.0;          ///< the load step, its cuts included, without the post-step stages
+  double stage_seconds = 0.0;    ///< the post-step stages
   PhaseTimes phases;             ///< of the converged attempt
   int dofs = 0;                  ///< equations of the step
   long nonzeros = 0;             ///< entries of the tangent

@@ -49,7 +49,8 @@ class LoadStep {
         dofs_(st_, m.grid.num_nodes(), dim),
         pattern_(build_pattern(st_, dofs_)),
         assembler_(st_, m.points, dofs_, &m.grid),
-        response_(m.points.size()) {
+        response_(m.points.size()),
+        trial_state_(m.points.state.size()) {
     // Prescribed increments of active constrained nodes (last definition wins).
     std::map<int, double> prescribed;
     for (const auto& c : m.constraints)
@@ -73,6 +74,7 @@ class LoadStep {
   const std::vector<int>& constrained() const { return constrained_; }
   const std::vector<double>& increments() const { return increments_; }
   const SparseMatrix& pattern() const { return pattern_; }
+  bool symmetric_tangent() const { return model_.symmetric_tangent(); }
 
   /// Point loop for the iterate du: material updates (stress and history) and the
   /// internal force f_int,i = sum_p tau_p grad N_i w_p. The updates are independent and
@@ -99,8 +101,8 @@ class LoadStep {
         }
         continue;
       }
-      const Material& mat = *model_.materials[pts.material[p]];
-      mat.update(dF, pts.strain[p], response_[p]);
+      const Material& mat = model_.material_of(p);
+      mat.update(dF, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
       auto& G = grads_[p];  // gradients in the configuration the stress lives in
       if (mat.finite_strain()) {
         const Mat3 inv = dF.inverse();
@@ -163,6 +165,7 @@ class LoadStep {
   /// Eq. (2): maps the converged increment to the points and updates their state.
   void commit(Model<dim>& m, const Vector& du) const {
     auto& pts = m.points;
+    pts.state = trial_state_;  // the material histories of the converged iterate
     for (int p = 0; p < pts.size(); ++p) {
       Vec<dim> dx;
       const Mat3 g = increment_gradient(st_[p], dofs_, du, &dx);
@@ -171,11 +174,31 @@ class LoadStep {
       const double J = pts.F[p].determinant();
       pts.volume[p] = J * pts.original_volume[p];
       const MaterialResponse& r = response_[p];
-      pts.strain[p] = r.strain;
-      pts.stress[p] = m.materials[pts.material[p]]->finite_strain() ? Mat3(r.stress / J) : r.stress;
+      pts.stress[p] = m.material_of(p).finite_strain() ? Mat3(r.stress / J) : r.stress;
       if (m.basis == BasisKind::CPGIMP)
         for (int d = 0; d < dim; ++d) pts.half_length[p][d] = pts.original_half_length[p][d] * pts.F[p].col(d).norm();
     }
+  }
+
+  /// After commit: frees what only Newton needed (pattern, responses, trial state,
+  /// gradients), keeping the stencils and the equation numbering for the grid fields.
+  void release_newton_data() {
+    pattern_ = SparseMatrix();
+    std::vector<MaterialResponse>().swap(response_);
+    std::vector<double>().swap(trial_state_);
+    std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>>().swap(grads_);
+    std::vector<double>().swap(weights_);
+  }
+
+  /// The increment du at every grid node (dim values per node; zero on inactive nodes).
+  Vector grid_displacement(const Vector& du) const {
+    const int nn = model_.grid.num_nodes();
+    Vector u = Vector::Zero(static_cast<Eigen::Index>(nn) * dim);
+    for (int i = 0; i < dim; ++i) {
+      const Vector gi = dofs_.to_grid(du, i);
+      for (int n = 0; n < nn; ++n) u[n * dim + i] = gi[n];
+    }
+    return u;
   }
 
   /// Nodal mass sum_p N_i m_p at every grid node.
@@ -196,6 +219,7 @@ class LoadStep {
   std::vector<double> increments_;
   Vector f_ext_;
   std::vector<MaterialResponse> response_;
+  std::vector<double> trial_state_;  ///< the state block of the current iterate
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
   std::vector<double> weights_;
 };
@@ -209,7 +233,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
   Vector du = Vector::Zero(step.dofs().num_dofs());
   const std::vector<double> zeros(step.constrained().size(), 0.0);
-  const auto solver = make_linear_solver(settings.linear_solver, MatrixKind::Symmetric);
+  // A non-symmetric tangent goes to a general solver as it is: never symmetrised.
+  const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
+  const auto solver = make_linear_solver(settings.linear_solver, kind);
   std::unique_ptr<LinearSolver> general;  // made when a tangent is not positive definite
   Vector f_int;
   SparseMatrix K;
@@ -255,6 +281,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
       } catch (const SolverError&) {
         // Not positive definite at this iterate (a distorted trial state, or a genuine
         // instability): the symmetric indefinite system still has a Newton step.
+        if (solver->general()) throw;
         t0 = Clock::now();
         if (!general) general = make_linear_solver(settings.linear_solver, MatrixKind::General);
         general->compute(K);
@@ -272,19 +299,22 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
 }  // namespace
 
 template <int dim>
-RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, const StepObserver<dim>& observer) {
+RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
+                            const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer) {
   RunSummary summary;
+  if (!model.state_initialised()) model.initialise_state();
   const double nominal = 1.0 / settings.load_steps;
   double lambda = 0.0, dlambda = nominal;
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
+    std::unique_ptr<LoadStep<dim>> step;  // kept for the grid fields the observer may ask for
+    Vector du;
     const auto t0 = Clock::now();
     while (true) {
       info.residuals.clear();
       info.phases = PhaseTimes{};
       try {
-        std::unique_ptr<LoadStep<dim>> step;
         auto t0 = Clock::now();
         try {
           step = std::make_unique<LoadStep<dim>>(model, lambda + dlambda, dlambda);
@@ -294,16 +324,11 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
         info.phases.pattern = seconds_since(t0);
         info.dofs = step->dofs().num_dofs();
         info.nonzeros = step->pattern().nonZeros();
-        const Vector du = newton(*step, settings, info.residuals, info.indefinite_solves, info.phases);
+        du = newton(*step, settings, info.residuals, info.indefinite_solves, info.phases);
         t0 = Clock::now();
         step->commit(model, du);
         info.phases.update = seconds_since(t0);
-        info.grid_displacement = Vector::Zero(model.grid.num_nodes() * dim);
-        for (int i = 0; i < dim; ++i) {
-          const Vector gi = step->dofs().to_grid(du, i);
-          for (int n = 0; n < model.grid.num_nodes(); ++n) info.grid_displacement[n * dim + i] = gi[n];
-        }
-        info.grid_mass = step->grid_mass();
+        step->release_newton_data();
         break;
       } catch (const StepFailure& f) {
         if (info.cuts == settings.max_cuts)
@@ -321,15 +346,24 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, c
     info.load_factor = lambda;
     info.increment = dlambda;
     info.seconds = seconds_since(t0);
+    info.last = lambda >= 1.0;
+    info.grid_displacement = [&] { return step->grid_displacement(du); };
+    info.grid_mass = [&] { return step->grid_mass(); };
     summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
+    const auto t_stages = Clock::now();
+    for (PostStepStage<dim>* stage : stages) stage->after_step(model, info);
+    info.stage_seconds = seconds_since(t_stages);
     if (observer) observer(model, info);
     if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
   }
   return summary;
 }
 
-template RunSummary run_quasi_static<1>(Model<1>&, const NewtonSettings&, const StepObserver<1>&);
-template RunSummary run_quasi_static<2>(Model<2>&, const NewtonSettings&, const StepObserver<2>&);
-template RunSummary run_quasi_static<3>(Model<3>&, const NewtonSettings&, const StepObserver<3>&);
+template RunSummary run_quasi_static<1>(Model<1>&, const NewtonSettings&, const std::vector<PostStepStage<1>*>&,
+                                       const StepObserver<1>&);
+template RunSummary run_quasi_static<2>(Model<2>&, const NewtonSettings&, const std::vector<PostStepStage<2>*>&,
+                                       const StepObserver<2>&);
+template RunSummary run_quasi_static<3>(Model<3>&, const NewtonSettings&, const std::vector<PostStepStage<3>*>&,
+                                       const StepObserver<3>&);
 
 }  // namespace gradmpm

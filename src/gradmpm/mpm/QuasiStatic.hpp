@@ -9,11 +9,14 @@
 //       r = f_ext - f_int; stop when |r_free| / max(|f_ext|, |f_int|) < tol
 //       K d = r (CHOLMOD, symbolic analysis reused), du += d
 //     map du to the points (eq. 2), update x, F, volume, stress, domains; reset the grid
+//     post-step stages (the gradient step, ...), then the observer (outputs)
 //
 // A failing step (no convergence in max_iterations, divergence, a singular tangent) is
 // retried with half the increment, up to max_cuts times; then SolverError is thrown and
 // the model keeps the state of the last converged step.
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "gradmpm/mpm/Model.hpp"
 
@@ -21,6 +24,19 @@ namespace gradmpm {
 
 template <int dim>
 using StepObserver = std::function<void(const Model<dim>&, const StepInfo&)>;
+
+/// Work the driver does after every converged load step, in order, before the observer:
+/// the gradient step (gradient/MpmGradient.hpp) is one; the plastic regularisation will
+/// be another. Recipe "add a post-step stage" (docs/architecture.md): derive, implement
+/// name() and after_step(), pass it to run_quasi_static; tests/test_mpm_newton.cpp does.
+template <int dim>
+class PostStepStage {
+ public:
+  virtual ~PostStepStage() = default;
+  virtual std::string name() const = 0;
+  /// After the points hold the converged state of step `info.step`.
+  virtual void after_step(Model<dim>& model, const StepInfo& info) = 0;
+};
 
 struct RunSummary {
   int steps = 0;
@@ -31,6 +47,12 @@ struct RunSummary {
 /// Runs the analysis from load factor 0 to 1 in settings.load_steps nominal steps.
 template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
-                            const StepObserver<dim>& observer = {});
+                            const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer = {});
+
+/// The same without post-step stages.
+template <int dim>
+RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings, const StepObserver<dim>& observer = {}) {
+  return run_quasi_static<dim>(model, settings, {}, observer);
+}
 
 }  // namespace gradmpm

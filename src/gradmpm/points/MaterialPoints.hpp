@@ -18,12 +18,18 @@ struct MaterialPoints {
   std::vector<int> material;                ///< index into the model's material list
   std::vector<Eigen::Matrix3d> F;           ///< deformation gradient (3x3 in every dim)
   std::vector<Eigen::Matrix3d> stress;      ///< Cauchy stress
-  std::vector<Eigen::Matrix3d> strain;      ///< elastic strain history (logarithmic for Hencky)
+  /// Every point's material history, state_stride values per point (the largest state
+  /// of the model's materials; see Material::state_variables). Model::initialise_state
+  /// sizes and fills it.
+  std::vector<double> state;
+  int state_stride = 0;
   std::vector<Vec<dim>> half_length;        ///< GIMP domain half-lengths l_p (current)
   std::vector<Vec<dim>> original_half_length;  ///< l_p0
   std::vector<Vec<dim>> force;              ///< point load at load factor 1
 
   int size() const { return static_cast<int>(position.size()); }
+  double* state_of(int p) { return state.data() + static_cast<std::size_t>(p) * state_stride; }
+  const double* state_of(int p) const { return state.data() + static_cast<std::size_t>(p) * state_stride; }
 
   /// Adds an unstressed point at x with volume v; its domain is the box of half-lengths lp.
   void add(const Vec<dim>& x, double v, int mat, const Vec<dim>& lp = Vec<dim>::Zero(), double m = 0.0) {
@@ -35,7 +41,6 @@ struct MaterialPoints {
     material.push_back(mat);
     F.push_back(Eigen::Matrix3d::Identity());
     stress.push_back(Eigen::Matrix3d::Zero());
-    strain.push_back(Eigen::Matrix3d::Zero());
     half_length.push_back(lp);
     original_half_length.push_back(lp);
     force.push_back(Vec<dim>::Zero());

@@ -1,0 +1,247 @@
+// Reads an MPM case file into one MpmCase value (app/MpmCase.hpp). Defaults, ranges
+// and messages of every key come from app/CaseKeys.cpp; a material's keys from its law.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "gradmpm/app/CaseKeys.hpp"
+#include "gradmpm/app/CommonKeys.hpp"
+#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/materials/MaterialRegistry.hpp"
+#include "gradmpm/points/Generate.hpp"
+
+namespace gradmpm {
+
+int mpm_case_dimension(const CaseFile& cf) {
+  const auto n = cf.integer_list("grid.cells");
+  cf.require(n.size() >= 1 && n.size() <= 3, "grid.cells", "1 to 3 cell counts (one per dimension)");
+  return static_cast<int>(n.size());
+}
+
+namespace {
+
+constexpr const char* kAxes[3] = {"x", "y", "z"};
+
+template <int dim>
+Vec<dim> vec(const CaseFile& cf, const std::string& key) {
+  const auto v = cf.numbers(key, dim);
+  Vec<dim> out;
+  for (int d = 0; d < dim; ++d) out[d] = v[d];
+  return out;
+}
+
+bool inside_polygon(const std::vector<std::vector<double>>& poly, double x, double y) {
+  bool in = false;  // even-odd rule
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const double xi = poly[i][0], yi = poly[i][1], xj = poly[j][0], yj = poly[j][1];
+    if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
+  }
+  return in;
+}
+
+template <int dim>
+struct Box {
+  Vec<dim> lo, hi;
+  bool contains(const Vec<dim>& x, double tol) const {
+    for (int d = 0; d < dim; ++d)
+      if (x[d] < lo[d] - tol || x[d] > hi[d] + tol) return false;
+    return true;
+  }
+};
+
+template <int dim>
+Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
+  Box<dim> b{vec<dim>(cf, prefix + ".min"), vec<dim>(cf, prefix + ".max")};
+  for (int d = 0; d < dim; ++d)
+    cf.require(b.hi[d] >= b.lo[d], prefix + ".max", fmt::format("a corner with max >= min in every direction"));
+  return b;
+}
+
+}  // namespace
+
+template <int dim>
+MpmCase<dim> read_mpm_case(CaseFile& cf) {
+  for (const auto& s : mpm_sections())
+    if (s.name == "linear_solver") declare_linear_solver_section(cf);
+    else cf.declare(s);
+  cf.reject_unknown();
+  const GradientSettings gradient_settings = read_gradient_settings(cf);
+
+  // --- grid
+  const auto cells = cf.integer_list("grid.cells");
+  typename Grid<dim>::Index n;
+  for (int d = 0; d < dim; ++d) {
+    cf.require(cells[d] >= 1 && cells[d] <= 10'000'000, "grid.cells", mpm_section("grid").key("cells").expected());
+    n[d] = static_cast<int>(cells[d]);
+  }
+  const Vec<dim> origin = vec<dim>(cf, "grid.origin");
+  Vec<dim> h;  // one size for all directions, or one per direction
+  if (cf.is_array("grid.cell_size"))
+    h = vec<dim>(cf, "grid.cell_size");
+  else
+    h.setConstant(cf.number("grid.cell_size"));
+  cf.require((h.array() > 0.0).all(), "grid.cell_size", mpm_section("grid").key("cell_size").expected());
+  Model<dim> m(Grid<dim>(origin, h, n));
+  Vec<dim> grid_hi;
+  for (int d = 0; d < dim; ++d) grid_hi[d] = origin[d] + n[d] * h[d];
+
+  // --- basis
+  m.basis = *parse_basis(read_string(cf, "basis", mpm_section("basis").key("type")));
+
+  // --- materials
+  const auto names = cf.subsections("materials");
+  if (names.empty()) throw InputError(fmt::format("{}: missing section [materials.NAME] (at least one material)", cf.name()));
+  for (const auto& name : names) {  // each law reads its own keys
+    const std::string k = "materials." + name;
+    const std::string model = read_string(cf, k, mpm_section("materials").key("model"));
+    const MaterialInfo* law = MaterialRegistry::instance().find(model);
+    cf.require(law != nullptr, k + ".model", mpm_section("materials").key("model").expected());
+    std::vector<std::string> keys = {"model"};
+    for (const auto& key : law->keys) keys.push_back(key.name);
+    cf.check_section_keys(k, keys, fmt::format("[{}] with model = \"{}\"", k, model));
+    m.materials.push_back(law->make(cf, k, *law));
+  }
+
+  // --- bodies: material points at sub-cell centres inside each body
+  const std::size_t nb = cf.array_size("bodies");
+  if (nb == 0) throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::string k = fmt::format("bodies[{}]", b);
+    const std::string mat = cf.string(k + ".material");
+    int mat_id = -1;
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == mat) mat_id = static_cast<int>(i);
+    cf.require(mat_id >= 0, k + ".material", fmt::format("the name of a [materials.NAME] section (one of: {})", fmt::join(names, ", ")));
+    const long long ppc = read_integer(cf, k, mpm_section("bodies").key("points_per_cell"));
+    Box<dim> box;
+    std::function<bool(const Vec<dim>&)> inside;
+    if (cf.has(k + ".polygon")) {
+      cf.require(dim == 2, k + ".polygon", "no polygon (polygons are for 2D cases; use min and max)");
+      cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), k + ".polygon", "either a polygon or min/max, not both");
+      const auto poly = cf.vector_list(k + ".polygon", 2);
+      cf.require(poly.size() >= 3, k + ".polygon", "at least 3 vertices");
+      box.lo.setConstant(std::numeric_limits<double>::max());
+      box.hi.setConstant(std::numeric_limits<double>::lowest());
+      for (const auto& v : poly)
+        for (int d = 0; d < dim; ++d) {
+          box.lo[d] = std::min(box.lo[d], v[d]);
+          box.hi[d] = std::max(box.hi[d], v[d]);
+        }
+      inside = [poly](const Vec<dim>& x) { return inside_polygon(poly, x[0], x[dim > 1 ? 1 : 0]); };
+    } else {
+      box = read_box<dim>(cf, k);
+      inside = [box](const Vec<dim>& x) { return box.contains(x, 0.0); };
+    }
+    for (int d = 0; d < dim; ++d)
+      cf.require(box.lo[d] >= origin[d] - 1e-12 * h[d] && box.hi[d] <= grid_hi[d] + 1e-12 * h[d], k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
+                 "a body inside the grid");
+    typename Grid<dim>::Index first, last;
+    for (int d = 0; d < dim; ++d) {
+      first[d] = std::max(0, static_cast<int>(std::floor((box.lo[d] - origin[d]) / h[d])));
+      last[d] = std::min(n[d], static_cast<int>(std::ceil((box.hi[d] - origin[d]) / h[d])));
+    }
+    const int added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
+                                              m.materials[mat_id]->density(), m.points);
+    cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"), "a body holding at least one material point (it is smaller than a sub-cell)");
+  }
+
+  // --- loads
+  if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
+
+  // --- constraints on grid nodes
+  const double tol = 1e-9 * h.minCoeff();
+  for (std::size_t c = 0; c < cf.array_size("constraints"); ++c) {
+    const std::string k = fmt::format("constraints[{}]", c);
+    Box<dim> sel;
+    if (cf.has(k + ".face")) {
+      const std::string face = cf.string(k + ".face");
+      int axis = -1;
+      for (int d = 0; d < dim; ++d)
+        if (face.size() == 2 && face[0] == kAxes[d][0] && (face[1] == '-' || face[1] == '+')) axis = d;
+      cf.require(axis >= 0, k + ".face", dim == 1 ? "\"x-\" or \"x+\"" : (dim == 2 ? "one of \"x-\", \"x+\", \"y-\", \"y+\"" : "one of \"x-\", \"x+\", \"y-\", \"y+\", \"z-\", \"z+\""));
+      cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), k + ".face", "either a face or min/max, not both");
+      sel.lo = origin;
+      sel.hi = grid_hi;
+      if (face[1] == '-') sel.hi[axis] = origin[axis];
+      else sel.lo[axis] = grid_hi[axis];
+    } else {
+      sel = read_box<dim>(cf, k);
+    }
+    const auto fix = cf.string_list(k + ".fix");
+    std::vector<int> comps;
+    for (const auto& f : fix) {
+      int axis = -1;
+      for (int d = 0; d < dim; ++d)
+        if (f == kAxes[d]) axis = d;
+      cf.require(axis >= 0, k + ".fix", dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
+      comps.push_back(axis);
+    }
+    cf.require(!comps.empty(), k + ".fix", "at least one component to hold");
+    Vec<dim> disp = Vec<dim>::Zero();
+    if (cf.has(k + ".displacement")) disp = vec<dim>(cf, k + ".displacement");
+    int selected = 0;
+    for (int node = 0; node < m.grid.num_nodes(); ++node) {
+      if (!sel.contains(m.grid.node_position(node), tol)) continue;
+      ++selected;
+      for (int comp : comps) m.constraints.push_back({node, comp, disp[comp]});
+    }
+    cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");
+  }
+
+  // --- point loads
+  for (std::size_t c = 0; c < cf.array_size("point_loads"); ++c) {
+    const std::string k = fmt::format("point_loads[{}]", c);
+    const Box<dim> sel = read_box<dim>(cf, k);
+    const Vec<dim> f = vec<dim>(cf, k + ".force");
+    int selected = 0;
+    for (int p = 0; p < m.points.size(); ++p)
+      if (sel.contains(m.points.position[p], tol)) {
+        m.points.force[p] += f;
+        ++selected;
+      }
+    cf.require(selected > 0, k + ".min", "a box holding at least one material point");
+  }
+
+  // --- load steps, Newton, output
+  const SectionSpec& nl = mpm_section("nonlinear_solver");
+  NewtonSettings newton;
+  newton.load_steps = static_cast<int>(read_integer(cf, "load_steps", mpm_section("load_steps").key("count")));
+  newton.tolerance = read_number(cf, nl.name, nl.key("tolerance"));
+  newton.max_iterations = static_cast<int>(read_integer(cf, nl.name, nl.key("max_iterations")));
+  newton.max_cuts = static_cast<int>(read_integer(cf, nl.name, nl.key("max_cuts")));
+  newton.linear_solver = read_linear_solver_settings(cf);
+  GradientSettings gradient = gradient_settings;
+  gradient.linear_solver = newton.linear_solver;
+
+  const SectionSpec& out = mpm_section("output");
+  MpmOutputSettings output;
+  output.vtk_every = static_cast<int>(read_integer(cf, out.name, out.key("vtk_every")));
+  if (cf.has("output.track")) {
+    output.track = cf.integer_list("output.track");
+    for (long long id : output.track)
+      cf.require(id >= 0 && id < m.points.size(), "output.track", fmt::format("point ids from 0 to {}", m.points.size() - 1));
+  }
+  output.check = read_string(cf, out.name, out.key("check"));
+  output.plot = read_boolean(cf, out.name, out.key("plot"));
+  if (output.check == "column") {
+    cf.require(m.materials.size() == 1 && m.materials[0]->model() == "hencky" && m.materials[0]->elasticity().poisson == 0.0,
+               "output.check", "\"column\" only for one Hencky material with poisson = 0");
+    cf.require(nb == 1 && !cf.has("bodies[0].polygon"), "output.check", "\"column\" only for one box-shaped body");
+    bool vertical = m.gravity[dim - 1] < 0.0;
+    for (int d = 0; d + 1 < dim; ++d) vertical = vertical && m.gravity[d] == 0.0;
+    cf.require(vertical, "output.check", "\"column\" only with gravity along -" + std::string(kAxes[dim - 1]));
+  }
+  m.initialise_state();
+  return MpmCase<dim>{std::move(m), newton, gradient, output};
+}
+
+
+template MpmCase<1> read_mpm_case<1>(CaseFile&);
+template MpmCase<2> read_mpm_case<2>(CaseFile&);
+template MpmCase<3> read_mpm_case<3>(CaseFile&);
+
+}  // namespace gradmpm

@@ -1,0 +1,136 @@
+// Runs an MPM case: reads it (app/MpmCaseReader.cpp), solves it with the gradient step
+// as a post-step stage of the driver, and writes the outputs, each file all or nothing:
+//   points_NNNN.vtu, grid_NNNN.vtu, points.pvd, grid.pvd   every output.vtk_every steps
+//   newton_history.csv, tracked_points.csv                 after every step
+//   points_final.csv, points_gradient.csv                  at the end
+//   column_check.csv, column.png                           with output.check = "column"
+#include <fmt/format.h>
+
+#include "gradmpm/app/ColumnCheck.hpp"
+#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/app/PointColumns.hpp"
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Timer.hpp"
+#include "gradmpm/io/StagedOutputs.hpp"
+#include "gradmpm/io/Vtk.hpp"
+
+namespace gradmpm {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void write_now(const fs::path& dir, const std::string& name, const std::string& content) {
+  StagedOutputs out(dir);
+  out.write_text(name, content);
+  out.commit();
+}
+
+/// The point columns of points_final.csv and tracked_points.csv (state variables appended).
+const std::vector<std::string> kFinalColumns = {"id", "original_position", "position", "stress", "volume", "mass"};
+const std::vector<std::string> kTrackedColumns = {"id", "position", "stress"};
+const std::vector<std::string> kGradientColumns = {"id",           "position",      "displacement", "gradient_displacement",
+                                                   "elastic_strain", "gradient_strain", "gradient_stress"};
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+template <int dim>
+void print_step(const StepInfo& info) {
+  std::string res;
+  for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
+  fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}  residuals{}{}  ({:.2f} s)\n", info.step,
+             info.load_factor, static_cast<int>(info.residuals.size()) - 1, info.cuts, res,
+             info.indefinite_solves ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves) : "",
+             info.seconds);
+  std::fflush(stdout);
+}
+
+template <int dim>
+void run(CaseFile& cf, const fs::path& dir, bool quiet) {
+  MpmCase<dim> c = read_mpm_case<dim>(cf);
+  Model<dim>& m = c.model;
+  const MpmOutputSettings& output = c.output;
+  StagedOutputs probe(dir);  // fails now, before solving, if the directory is unusable
+  GradientStep<dim> gradient_step(m, c.gradient);
+  std::vector<PostStepStage<dim>*> stages;
+  if (gradient_step.enabled()) stages.push_back(&gradient_step);
+  double classical_seconds = 0.0;
+
+  std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
+  std::string history = "step,load_factor,iteration,residual\n";
+  const std::vector<std::string> tracked_columns = PointColumns<dim>(m, nullptr).with_state(kTrackedColumns);
+  std::string tracked = "step,load_factor," + join(PointColumns<dim>(m, nullptr).csv_header(tracked_columns)) + "\n";
+  auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
+    const std::string pf = fmt::format("points_{:04d}.vtu", step), gf = fmt::format("grid_{:04d}.vtu", step);
+    const PointColumns<dim> table(m, gradient_step.fields());
+    StagedOutputs out(dir);
+    out.write_text(pf, table.vtu(vtu_point_columns(table)));
+    out.write_text(gf, grid_vtu(m, info));
+    pvd_points.emplace_back(lambda, pf);
+    pvd_grid.emplace_back(lambda, gf);
+    out.write_text("points.pvd", pvd(pvd_points));
+    out.write_text("grid.pvd", pvd(pvd_grid));
+    out.commit();
+  };
+  auto track = [&](int step, double lambda) {
+    PointColumns<dim>(m, nullptr).append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
+  };
+  if (!quiet)
+    fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s)\n", dim, m.points.size(),
+               m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps);
+  if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
+  track(0, 0.0);
+
+  const auto t0 = Clock::now();
+  try {
+    const RunSummary summary = run_quasi_static<dim>(m, c.newton, stages, [&](const Model<dim>&, const StepInfo& info) {
+      for (std::size_t k = 0; k < info.residuals.size(); ++k)
+        fmt::format_to(std::back_inserter(history), "{},{},{},{}\n", info.step, info.load_factor, k, info.residuals[k]);
+      track(info.step, info.load_factor);
+      classical_seconds += info.seconds;
+      if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
+        write_vtk(info.step, info.load_factor, &info);
+      StagedOutputs out(dir);
+      out.write_text("newton_history.csv", history);
+      if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
+      out.commit();
+      if (!quiet) print_step<dim>(info);
+    });
+    const PointColumns<dim> table(m, gradient_step.fields());
+    write_now(dir, "points_final.csv", table.csv(table.with_state(kFinalColumns)).str());
+    if (gradient_step.fields()) write_now(dir, "points_gradient.csv", table.csv(kGradientColumns).str());
+    if (gradient_step.enabled() && !quiet)
+      fmt::print("  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",
+                 to_string(c.gradient.variant), c.gradient.length_scale,
+                 c.gradient.apply == GradientApply::End ? "end" : "each_step",
+                 c.gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step.seconds(),
+                 100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
+    if (!quiet)
+      fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps, summary.total_iterations,
+                 summary.cuts, seconds_since(t0));
+    if (output.check == "column") {
+      const std::string line = column_check(m, dir, output.plot);
+      if (!quiet) fmt::print("  {}\n", line);
+    }
+    if (!quiet) fmt::print("  wrote {}/points_final.csv, newton_history.csv, points.pvd, grid.pvd\n", dir.string());
+  } catch (const SolverError&) {
+    if (!quiet) fmt::print("  stopped; the files of the converged steps in {} are complete\n", dir.string());
+    throw;
+  }
+}
+
+}  // namespace
+
+void run_mpm_case(CaseFile& cf, const fs::path& out_dir, bool quiet) {
+  switch (mpm_case_dimension(cf)) {
+    case 1: return run<1>(cf, out_dir, quiet);
+    case 2: return run<2>(cf, out_dir, quiet);
+    default: return run<3>(cf, out_dir, quiet);
+  }
+}
+
+}  // namespace gradmpm

@@ -1,0 +1,71 @@
+#include "gradmpm/materials/MaterialRegistry.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace gradmpm {
+
+MaterialInfo linear_elastic_info();  // materials/LinearElastic.cpp
+MaterialInfo hencky_info();          // materials/Hencky.cpp
+
+namespace {
+void register_builtin_materials(MaterialRegistry& r) {
+  r.add(hencky_info());
+  r.add(linear_elastic_info());
+}
+}  // namespace
+
+MaterialRegistry& MaterialRegistry::instance() {
+  static MaterialRegistry registry = [] {
+    MaterialRegistry r;
+    register_builtin_materials(r);
+    return r;
+  }();
+  return registry;
+}
+
+void MaterialRegistry::add(MaterialInfo info) {
+  for (auto& l : laws_)
+    if (l.model == info.model) {
+      l = std::move(info);
+      return;
+    }
+  laws_.push_back(std::move(info));
+}
+
+const MaterialInfo* MaterialRegistry::find(const std::string& model) const {
+  for (const auto& l : laws_)
+    if (l.model == model) return &l;
+  return nullptr;
+}
+
+std::string MaterialRegistry::quoted_names() const {
+  std::string s;
+  for (std::size_t i = 0; i < laws_.size(); ++i)
+    s += fmt::format("{}\"{}\"", i == 0 ? "" : (i + 1 == laws_.size() ? " or " : ", "), laws_[i].model);
+  return s;
+}
+
+std::vector<KeySpec> isotropic_elasticity_keys() {
+  return {
+      {.name = "young", .type = KeyType::Number, .min = 0.0, .min_open = true, .allowed = "a Young's modulus > 0",
+       .doc = "Young's modulus E"},
+      {.name = "poisson", .type = KeyType::Number, .default_value = 0.0, .min = -1.0, .max = 0.5, .min_open = true,
+       .max_open = true, .allowed = "a Poisson's ratio in (-1, 0.5)", .doc = "Poisson's ratio nu"},
+      {.name = "density", .type = KeyType::Number, .default_value = 0.0, .min = 0.0, .allowed = "a density >= 0",
+       .doc = "reference mass density rho_0 (body force m_p g)"},
+  };
+}
+
+ElasticSolid read_elastic_solid(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) {
+  auto key = [&](const char* name) -> const KeySpec& {
+    for (const auto& k : self.keys)
+      if (k.name == name) return k;
+    throw std::logic_error(self.model + " declares no key " + name);
+  };
+  const double E = read_number(cf, prefix, key("young")), nu = read_number(cf, prefix, key("poisson"));
+  return {IsotropicElasticity(E, nu), read_number(cf, prefix, key("density"))};
+}
+
+}  // namespace gradmpm
