@@ -139,20 +139,17 @@ BarResult solve_bar(const BarConfig& c) {
       r.point_stress_gradient = point_stresses(r, r.point_strain_gradient);
       break;
     }
-    case GradientVariant::E_RA: {
-      const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, {}, c.solver);
-      const Vector smoothed = smoother.smooth_point_field(r.point_strain_classical);
-      strain_nodes = dofs.to_grid(smoothed);
-      r.point_strain_gradient = assembler.interpolate(smoothed);
-      r.point_stress_gradient = point_stresses(r, r.point_strain_gradient);
-      break;
-    }
+    case GradientVariant::E_RA:
     case GradientVariant::S_RA: {
+      // The smoothed field (strain for e-RA, stress for s-RA) with natural boundaries,
+      // the other from the law at the points.
+      const bool strain = c.variant == GradientVariant::E_RA;
       const HelmholtzSmoother<1> smoother(assembler, pattern, c.length_scale, {}, c.solver);
-      const Vector smoothed = smoother.smooth_point_field(r.point_stress_classical);
-      stress_nodes = dofs.to_grid(smoothed);
-      r.point_stress_gradient = assembler.interpolate(smoothed);
-      r.point_strain_gradient = point_compliant_strains(r, r.point_stress_gradient);
+      const Vector smoothed = smoother.smooth_point_field(strain ? r.point_strain_classical : r.point_stress_classical);
+      (strain ? strain_nodes : stress_nodes) = dofs.to_grid(smoothed);
+      const std::vector<double> at_points = assembler.interpolate(smoothed);
+      r.point_strain_gradient = strain ? at_points : point_compliant_strains(r, at_points);
+      r.point_stress_gradient = strain ? point_stresses(r, at_points) : at_points;
       break;
     }
   }

@@ -3,7 +3,6 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
 
 namespace gradmpm {
@@ -25,15 +24,8 @@ using PrincipalValues = Eigen::Map<Eigen::Vector3d>;
 using PrincipalDirections = Eigen::Map<Mat3>;
 }  // namespace
 
-Hencky::Hencky(double E, double nu, double rho) : Material(IsotropicElasticity(E, nu), rho) {}
-
-const std::vector<StateVariable>& Hencky::state_variables() const {
-  static const std::vector<StateVariable> vars = {
-      {"elastic_strain", StateVariable::Kind::SymmetricTensor, 0.0, "logarithmic elastic strain eps_e = 1/2 ln b_e"}};
-  return vars;
-}
-
-Mat3 Hencky::elastic_strain(const double* state) const { return unpack_symmetric(state); }
+Hencky::Hencky(double E, double nu, double rho)
+    : ElasticStrainHistory(IsotropicElasticity(E, nu), rho, "logarithmic elastic strain eps_e = 1/2 ln b_e") {}
 
 void Hencky::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {
   // Trial elastic left Cauchy-Green tensor b_e = dF exp(2 eps_n) dF^T.
@@ -103,11 +95,7 @@ void Hencky::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
 }
 
 MaterialInfo hencky_info() {
-  return {"hencky", "Hencky (logarithmic-strain) hyperelasticity, finite strain", isotropic_elasticity_keys(),
-          [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) {
-            const ElasticSolid s = read_elastic_solid(cf, prefix, self);
-            return std::make_shared<Hencky>(s.elasticity.young, s.elasticity.poisson, s.density);
-          }};
+  return elastic_law_info<Hencky>("hencky", "Hencky (logarithmic-strain) hyperelasticity, finite strain");
 }
 
 }  // namespace gradmpm

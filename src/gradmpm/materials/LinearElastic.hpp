@@ -1,19 +1,18 @@
 #pragma once
 // Small-strain linear elasticity: sigma = D : eps with eps accumulated from sym(dF - I).
 // State: the strain tensor (elastic_strain).
-#include "gradmpm/materials/Material.hpp"
+#include "gradmpm/materials/ElasticStrainHistory.hpp"
 
 namespace gradmpm {
 
-class LinearElastic final : public Material {
+class LinearElastic final : public ElasticStrainHistory {
  public:
   LinearElastic(double young, double poisson, double rho);
-  std::string model() const override { return "linear-elastic"; }
+  std::string model() const override;
   bool finite_strain() const override { return false; }
-  const std::vector<StateVariable>& state_variables() const override;
-  void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override;
+  /// The tangent is D at every state.
   void tangent(const MaterialResponse&, int, Mat9& A) const override { A = D_; }
-  Mat3 elastic_strain(const double* state) const override;
+  void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override;
 
  private:
   Mat9 D_;

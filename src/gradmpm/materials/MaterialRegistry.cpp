@@ -9,42 +9,9 @@ namespace gradmpm {
 MaterialInfo linear_elastic_info();  // materials/LinearElastic.cpp
 MaterialInfo hencky_info();          // materials/Hencky.cpp
 
-namespace {
-void register_builtin_materials(MaterialRegistry& r) {
-  r.add(hencky_info());
-  r.add(linear_elastic_info());
-}
-}  // namespace
-
-MaterialRegistry& MaterialRegistry::instance() {
-  static MaterialRegistry registry = [] {
-    MaterialRegistry r;
-    register_builtin_materials(r);
-    return r;
-  }();
-  return registry;
-}
-
-void MaterialRegistry::add(MaterialInfo info) {
-  for (auto& l : laws_)
-    if (l.model == info.model) {
-      l = std::move(info);
-      return;
-    }
-  laws_.push_back(std::move(info));
-}
-
-const MaterialInfo* MaterialRegistry::find(const std::string& model) const {
-  for (const auto& l : laws_)
-    if (l.model == model) return &l;
-  return nullptr;
-}
-
-std::string MaterialRegistry::quoted_names() const {
-  std::string s;
-  for (std::size_t i = 0; i < laws_.size(); ++i)
-    s += fmt::format("{}\"{}\"", i == 0 ? "" : (i + 1 == laws_.size() ? " or " : ", "), laws_[i].model);
-  return s;
+void register_builtins(MaterialRegistry& registry) {
+  registry.add(hencky_info());
+  registry.add(linear_elastic_info());
 }
 
 std::vector<KeySpec> isotropic_elasticity_keys() {

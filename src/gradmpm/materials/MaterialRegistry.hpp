@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gradmpm/core/Registry.hpp"
 #include "gradmpm/io/Keys.hpp"
 #include "gradmpm/materials/Material.hpp"
 
@@ -21,18 +22,6 @@ struct MaterialInfo {
   std::function<std::shared_ptr<const Material>(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self)> make;
 };
 
-class MaterialRegistry {
- public:
-  static MaterialRegistry& instance();
-  void add(MaterialInfo info);  ///< adds or replaces by model name
-  const MaterialInfo* find(const std::string& model) const;
-  const std::vector<MaterialInfo>& all() const { return laws_; }
-  std::string quoted_names() const;  ///< "\"hencky\", \"linear-elastic\", ..."
-
- private:
-  std::vector<MaterialInfo> laws_;
-};
-
 /// young, poisson, density: the keys of isotropic elasticity every law so far has.
 std::vector<KeySpec> isotropic_elasticity_keys();
 struct ElasticSolid {
@@ -41,5 +30,27 @@ struct ElasticSolid {
 };
 /// Reads young, poisson and density from `prefix` with `self`'s specs of them.
 ElasticSolid read_elastic_solid(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self);
+
+
+class MaterialRegistry : public Registry<MaterialRegistry, MaterialInfo, &MaterialInfo::model> {
+ public:
+  std::string quoted_names() const {  ///< "\"hencky\" or \"linear-elastic\""
+    return Registry::quoted_names([](const MaterialInfo&) { return true; });
+  }
+};
+
+/// The built-in laws (MaterialRegistry.cpp: one line each).
+void register_builtins(MaterialRegistry& registry);
+
+/// The MaterialInfo of a law whose keys are those of isotropic elasticity and whose
+/// constructor is Law(young, poisson, density).
+template <class Law>
+MaterialInfo elastic_law_info(std::string model, std::string doc) {
+  return {std::move(model), std::move(doc), isotropic_elasticity_keys(),
+          [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) -> std::shared_ptr<const Material> {
+            const ElasticSolid s = read_elastic_solid(cf, prefix, self);
+            return std::make_shared<Law>(s.elasticity.young, s.elasticity.poisson, s.density);
+          }};
+}
 
 }  // namespace gradmpm

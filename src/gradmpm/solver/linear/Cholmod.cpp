@@ -3,8 +3,7 @@
 #include <Eigen/CholmodSupport>
 #include <omp.h>
 
-#include "gradmpm/core/Errors.hpp"
-#include "gradmpm/solver/linear/LinearSolver.hpp"
+#include "gradmpm/solver/linear/EigenSolver.hpp"
 
 namespace gradmpm {
 
@@ -27,47 +26,26 @@ class CholmodThreadCap {
   int previous_;
 };
 
-class Cholmod final : public LinearSolver {
- public:
-  Cholmod() {
+using Decomposition = Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>;
+
+struct CholmodTraits {
+  static constexpr const char* name = "cholmod";
+  static constexpr bool general = false, keeps_reference = false;
+  using Guard = CholmodThreadCap;
+  static void configure(Decomposition& d) {
     // Failures are reported through SolverError; CHOLMOD's own printing would only
     // duplicate them on stderr.
-    llt_.cholmod().print = 0;
-    llt_.cholmod().error_handler = nullptr;
+    d.cholmod().print = 0;
+    d.cholmod().error_handler = nullptr;
   }
-  std::string name() const override { return "cholmod"; }
-  bool general() const override { return false; }
-
- protected:
-  void do_analyze(const SparseMatrix& A) override {
-    CholmodThreadCap cap;
-    llt_.analyzePattern(A);
-  }
-  void do_factorize(const SparseMatrix& A) override {
-    CholmodThreadCap cap;
-    llt_.factorize(A);
-    if (llt_.info() != Eigen::Success)
-      throw SolverError("sparse factorisation (cholmod) failed: the matrix is not positive definite (is the body "
-                        "under-constrained?)");
-  }
-  Vector do_solve(const Vector& b) const override {
-    CholmodThreadCap cap;
-    return llt_.solve(b);
-  }
-  Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override {
-    CholmodThreadCap cap;
-    return llt_.solve(B);
-  }
-
- private:
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt_;
+  static std::string failure(const Decomposition& d) { return d.info() == Eigen::Success ? "" : kNotPositiveDefinite; }
 };
 
 }  // namespace
 
 LinearSolverInfo cholmod_solver_info() {
-  return {"cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite)", false,
-          [](const LinearSolverSettings&) { return std::make_unique<Cholmod>(); }};
+  return {CholmodTraits::name, "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite)", false,
+          [](const LinearSolverSettings&) { return std::make_unique<EigenSolver<Decomposition, CholmodTraits>>(); }};
 }
 
 }  // namespace gradmpm

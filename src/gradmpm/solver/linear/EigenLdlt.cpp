@@ -1,40 +1,29 @@
 // Eigen's SimplicialLDLT: a dependency-free fallback for symmetric positive definite
-// systems. Reads the lower triangle.
+// systems. Reads the lower triangle. LDLT succeeds on indefinite matrices, so a
+// non-positive pivot counts as failure.
 #include <Eigen/SparseCholesky>
 
-#include "gradmpm/core/Errors.hpp"
-#include "gradmpm/solver/linear/LinearSolver.hpp"
+#include "gradmpm/solver/linear/EigenSolver.hpp"
 
 namespace gradmpm {
 
 namespace {
+using Ldlt = Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>;
 
-class EigenLdlt final : public LinearSolver {
- public:
-  std::string name() const override { return "eigen-ldlt"; }
-  bool general() const override { return false; }
-
- protected:
-  void do_analyze(const SparseMatrix& A) override { ldlt_.analyzePattern(A); }
-  void do_factorize(const SparseMatrix& A) override {
-    ldlt_.factorize(A);
-    // LDLT succeeds on indefinite matrices: insist on a positive diagonal.
-    if (ldlt_.info() != Eigen::Success || (ldlt_.vectorD().array() <= 0.0).any())
-      throw SolverError("sparse factorisation (eigen-ldlt) failed: the matrix is not positive definite (is the body "
-                        "under-constrained?)");
+struct LdltTraits {
+  static constexpr const char* name = "eigen-ldlt";
+  static constexpr bool general = false, keeps_reference = false;
+  using Guard = NoGuard;
+  static void configure(Ldlt&) {}
+  static std::string failure(const Ldlt& d) {
+    return d.info() == Eigen::Success && (d.vectorD().array() > 0.0).all() ? "" : kNotPositiveDefinite;
   }
-  Vector do_solve(const Vector& b) const override { return ldlt_.solve(b); }
-  Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override { return ldlt_.solve(B); }
-
- private:
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt_;
 };
-
 }  // namespace
 
 LinearSolverInfo eigen_ldlt_solver_info() {
-  return {"eigen-ldlt", "Eigen SimplicialLDLT (symmetric positive definite)", false,
-          [](const LinearSolverSettings&) { return std::make_unique<EigenLdlt>(); }};
+  return {LdltTraits::name, "Eigen SimplicialLDLT (symmetric positive definite)", false,
+          [](const LinearSolverSettings&) { return std::make_unique<EigenSolver<Ldlt, LdltTraits>>(); }};
 }
 
 }  // namespace gradmpm

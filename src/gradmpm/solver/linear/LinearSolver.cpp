@@ -44,39 +44,6 @@ Eigen::MatrixXd LinearSolver::do_solve(const Eigen::MatrixXd& B) const {
   return X;
 }
 
-void register_builtin_linear_solvers(LinearSolverRegistry& registry);  // LinearSolverRegistry.cpp
-
-LinearSolverRegistry& LinearSolverRegistry::instance() {
-  static LinearSolverRegistry registry = [] {
-    LinearSolverRegistry r;
-    register_builtin_linear_solvers(r);
-    return r;
-  }();
-  return registry;
-}
-
-void LinearSolverRegistry::add(LinearSolverInfo info) {
-  for (auto& s : solvers_)
-    if (s.name == info.name) {
-      s = std::move(info);
-      return;
-    }
-  solvers_.push_back(std::move(info));
-}
-
-const LinearSolverInfo* LinearSolverRegistry::find(const std::string& name) const {
-  for (const auto& s : solvers_)
-    if (s.name == name) return &s;
-  return nullptr;
-}
-
-std::string LinearSolverRegistry::quoted_names(bool general_only) const {
-  std::string out;
-  for (const auto& s : solvers_)
-    if (!general_only || s.general) out += fmt::format("{}\"{}\"", out.empty() ? "" : ", ", s.name);
-  return out;
-}
-
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, MatrixKind kind) {
   const auto& registry = LinearSolverRegistry::instance();
   const LinearSolverInfo* info = registry.find(settings.type);

@@ -7,13 +7,14 @@
 //
 // Recipe "add a linear solver" (docs/architecture.md): derive from LinearSolver,
 // implement do_analyze/do_factorize/do_solve (and general()), and add one line to
-// register_builtin_linear_solvers() in LinearSolverRegistry.cpp; tests/test_solver.cpp
+// register_builtins() in LinearSolverRegistry.cpp; tests/test_solver.cpp
 // registers a toy one at run time the same way.
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "gradmpm/core/Registry.hpp"
 #include "gradmpm/core/Types.hpp"
 #include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 
@@ -65,21 +66,16 @@ struct LinearSolverInfo {
   std::function<std::unique_ptr<LinearSolver>(const LinearSolverSettings&)> make;
 };
 
-class LinearSolverRegistry {
+class LinearSolverRegistry : public Registry<LinearSolverRegistry, LinearSolverInfo, &LinearSolverInfo::name> {
  public:
-  /// The registry holding the built-in solvers (and any added at run time).
-  static LinearSolverRegistry& instance();
-  /// Adds (or replaces) a solver by name.
-  void add(LinearSolverInfo info);
-  /// null when no solver has that name.
-  const LinearSolverInfo* find(const std::string& name) const;
-  const std::vector<LinearSolverInfo>& all() const { return solvers_; }
   /// "\"cholmod\", \"pcg\", ..." for messages and docs (general ones only if asked).
-  std::string quoted_names(bool general_only = false) const;
-
- private:
-  std::vector<LinearSolverInfo> solvers_;
+  std::string quoted_names(bool general_only = false) const {
+    return Registry::quoted_names([&](const LinearSolverInfo& s) { return !general_only || s.general; }, ", ");
+  }
 };
+
+/// The built-in solvers (LinearSolverRegistry.cpp: one line each).
+void register_builtins(LinearSolverRegistry& registry);
 
 /// The solver for matrices of `kind`: settings.type when it can solve them, else
 /// settings.general. Throws InputError-free SolverError if a name is not registered

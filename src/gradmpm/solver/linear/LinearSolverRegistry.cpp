@@ -6,10 +6,10 @@ namespace gradmpm {
 LinearSolverInfo cholmod_solver_info();
 LinearSolverInfo eigen_ldlt_solver_info();
 LinearSolverInfo pcg_solver_info();
-LinearSolverInfo umfpack_solver_info();
-LinearSolverInfo eigen_lu_solver_info();
+LinearSolverInfo umfpack_solver_info();   // SparseLu.cpp
+LinearSolverInfo eigen_lu_solver_info();  // SparseLu.cpp
 
-void register_builtin_linear_solvers(LinearSolverRegistry& registry) {
+void register_builtins(LinearSolverRegistry& registry) {
   registry.add(cholmod_solver_info());
   registry.add(eigen_ldlt_solver_info());
   registry.add(pcg_solver_info());
