@@ -1,6 +1,7 @@
 // gradmpm: implicit material point method with gradient elasticity.
 //
 //   gradmpm run CASE.toml [--out DIR] [--set section.key=value ...]
+//   gradmpm keys [bar|bar-mpm|mpm]      the case-file keys as markdown tables
 //
 // Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input (case file,
 // key, value, command line, or an output path that cannot be written).
@@ -9,6 +10,7 @@
 
 #include <exception>
 
+#include "gradmpm/app/KeysDoc.hpp"
 #include "gradmpm/app/RunCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 
@@ -33,6 +35,18 @@ int main(int argc, char** argv) {
       ->type_name("KEY=VALUE");
   run->add_flag("-q,--quiet", options.quiet, "print nothing on success");
 
+  std::string keys_kind = "mpm";
+  CLI::App* keys = app.add_subcommand(
+      "keys",
+      "Print the case-file keys of KIND (bar, bar-mpm or mpm) as markdown tables: type, default, allowed values, "
+      "meaning. docs/case-files.md holds the same tables (scripts/update-docs).");
+  keys->add_option("kind", keys_kind, "bar, bar-mpm or mpm (default)");
+  std::string update_doc;
+  keys->add_option("--update", update_doc,
+                   "instead of printing, rewrite the tables between <!-- keys KIND --> and <!-- /keys --> in FILE "
+                   "(docs/case-files.md)")
+      ->type_name("FILE");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --help-all, --version
@@ -44,6 +58,8 @@ int main(int argc, char** argv) {
 
   try {
     if (run->parsed()) gradmpm::run_case(case_file, options);
+    if (keys->parsed() && update_doc.empty()) fmt::print("{}", gradmpm::keys_markdown(keys_kind));
+    if (keys->parsed() && !update_doc.empty()) gradmpm::update_generated_keys(update_doc);
     return 0;
   } catch (const gradmpm::UserError& e) {  // bad input or an unwritable output path
     fmt::print(stderr, "gradmpm: error: {}\n", e.what());

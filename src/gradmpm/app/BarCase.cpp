@@ -18,9 +18,7 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* 
   const SectionSpec& bar = bar_section();
   cf.declare(bar);
   if (mpm) {
-    SectionSpec gradient = gradient_section();
-    gradient.required = true;
-    cf.declare(gradient);
+    cf.declare(bar_mpm_gradient_section());
     cf.declare(bar_mpm_section());
   } else {
     cf.declare(bar_gradient_section());

@@ -58,6 +58,15 @@ const SectionSpec& gradient_section() {
   return s;
 }
 
+const SectionSpec& bar_mpm_gradient_section() {
+  static const SectionSpec s = [] {
+    SectionSpec g = gradient_section();
+    g.required = true;
+    return g;
+  }();
+  return s;
+}
+
 const SectionSpec& bar_gradient_section() {
   static const SectionSpec s{"gradient", SectionKind::Section, true, "the Ru-Aifantis gradient step",
                              {variant_key(true), length_scale_key("required unless `none` (then 0)")}};
@@ -123,7 +132,8 @@ const std::vector<SectionSpec>& mpm_sections() {
            .allowed = "\"mpm\", \"gimp\" (uGIMP) or \"cpgimp\"", .doc = "`mpm` (linear), `gimp` (uGIMP), `cpgimp`"}}},
         {"materials", SectionKind::TableOfSections, true, "one section per material, named by the bodies", material_keys},
         {"bodies", SectionKind::Array, true, "bodies of material points",
-         {{.name = "material", .type = K::String, .doc = "a NAME of [materials.NAME]"},
+         {{.name = "material", .type = K::String, .allowed = "the name of a [materials.NAME] section",
+           .doc = "the material of the body's points"},
           {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "required (or `polygon`)",
            .doc = "the body's box (with `max`), inside the grid"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "required (or `polygon`)",
