@@ -10,7 +10,9 @@
 //     symmetrised (the law claiming a symmetric tangent, so CHOLMOD reads one triangle)
 //     Newton would not converge in one;
 //  R4 "add a linear solver": a solver defined only here is chosen by linear_solver.type
-//     in a case file, serves every Newton iteration, and gives CHOLMOD's answer;
+//     in a case file, serves every Newton iteration, gives CHOLMOD's answer, and is told
+//     what an algebraic multigrid needs (block size dim, the active nodes' coordinates);
+//     options reach a solver that takes them and are refused for one that does not;
 //  R5 "add a post-step stage": a stage defined only here runs once after every converged
 //     load step, sees the committed state, and runs before the observer.
 #include <gtest/gtest.h>
@@ -216,14 +218,23 @@ TEST(Recipes, StateVariablesReachTheOutputsByName) {
 namespace {
 /// UMFPACK under another name, counting its factorisations (R4).
 int toy_factorisations = 0;
+SystemDescription toy_description;
+Eigen::MatrixXd toy_coordinates;
 class CountingLu final : public LinearSolver {
  public:
   CountingLu() : lu_(make_linear_solver({.type = "umfpack"})) {}
   std::string name() const override { return "counting-lu"; }
   bool general() const override { return true; }
+  void describe(const SystemDescription& d) override {
+    toy_description = d;
+    toy_coordinates = d.node_coordinates();
+  }
 
  protected:
-  void do_analyze(const SparseMatrix& A) override { lu_->analyze(A); }
+  void do_analyze(const SparseMatrix& A) override {
+    EXPECT_EQ(toy_coordinates.rows() * 2, A.rows()) << "one row per node, 2 unknowns each";
+    lu_->analyze(A);
+  }
   void do_factorize(const SparseMatrix& A) override {
     ++toy_factorisations;
     lu_->factorize(A);
@@ -237,17 +248,38 @@ class CountingLu final : public LinearSolver {
 
 TEST(Recipes, ALinearSolverDefinedInATestIsChosenFromTheCaseFile) {
   LinearSolverRegistry::instance().add({"counting-lu", "UMFPACK, counted (test only)", true,
-                                        [](const LinearSolverSettings&) { return std::make_unique<CountingLu>(); }});
+                                        [](const LinearSolverSettings& s) {
+                                          EXPECT_EQ(s.options, "-toy_option 1");
+                                          return std::make_unique<CountingLu>();
+                                        },
+                                        true});
   const std::string column = slurp(fs::path(GRADMPM_SOURCE_DIR) / "examples" / "column_2d.toml");
   CaseFile ref_cf = CaseFile::parse(column, "column_2d.toml", {"output.check=", "load_steps.count=3"});
   MpmCase<2> ref = read_mpm_case<2>(ref_cf);
   run_quasi_static<2>(ref.model, ref.newton);
   toy_factorisations = 0;
-  CaseFile cf = CaseFile::parse(column, "column_2d.toml", {"output.check=", "load_steps.count=3", "linear_solver.type=counting-lu"});
+  CaseFile cf = CaseFile::parse(column, "column_2d.toml",
+                                {"output.check=", "load_steps.count=3", "linear_solver.type=counting-lu",
+                                 "linear_solver.options=\"-toy_option 1\""});
   MpmCase<2> c = read_mpm_case<2>(cf);
   EXPECT_EQ(c.newton.linear_solver.type, "counting-lu");
   const RunSummary summary = run_quasi_static<2>(c.model, c.newton);
   EXPECT_EQ(toy_factorisations, summary.total_iterations);
+  EXPECT_EQ(toy_description.block_size, 2);
+  ASSERT_GT(toy_coordinates.rows(), 0);
+  for (Eigen::Index r = 0; r < toy_coordinates.rows(); ++r) {  // grid nodes: multiples of the cell size from the origin
+    const double cx = (toy_coordinates(r, 0) - c.model.grid.origin()[0]) / c.model.grid.cell_size()[0];
+    EXPECT_NEAR(cx, std::round(cx), 1e-9);
+  }
+  CaseFile refused = CaseFile::parse(column, "column_2d.toml", {"linear_solver.options=\"-ksp_type cg\""});
+  try {
+    read_mpm_case<2>(refused);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("linear_solver.options (from --set): expected no options: \"cholmod\" takes none"),
+              std::string::npos)
+        << e.what();
+  }
   double diff = 0.0, scale = 0.0;
   for (int p = 0; p < c.model.points.size(); ++p) {
     diff = std::max(diff, (c.model.points.position[p] - ref.model.points.position[p]).norm());

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "gradmpm/app/BarCase.hpp"
+#include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
@@ -29,18 +31,21 @@ const SectionSpec& linear_solver_section() {
     for (const auto& info : r.all()) types += (types.empty() ? "" : "; ") + ("`\"" + info.name + "\"`: " + info.doc);
     return SectionSpec{
         "linear_solver", SectionKind::Section, false, "the sparse linear solver of every system the case solves",
-        {{.name = "type", .type = K::String, .default_value = std::string("cholmod"),
+        {{.name = "type", .type = K::String, .default_value = LinearSolverSettings{}.type,
           .allowed = "one of " + r.quoted_names(),
           .doc = "solver of the symmetric systems (the tangent when every material's is symmetric, the Helmholtz "
                  "systems): " + types},
-         {.name = "general", .type = K::String, .default_value = std::string("umfpack"),
+         {.name = "general", .type = K::String, .default_value = LinearSolverSettings{}.general,
           .allowed = "a solver of general matrices, one of " + r.quoted_names(true),
           .doc = "solver of non-symmetric tangents and of a symmetric tangent that `type` finds not positive definite"},
-         {.name = "pcg_tolerance", .type = K::Number, .default_value = 1e-12, .min = 0.0, .max = 1.0, .min_open = true,
+         {.name = "pcg_tolerance", .type = K::Number, .default_value = LinearSolverSettings{}.pcg_tolerance, .min = 0.0, .max = 1.0, .min_open = true,
           .max_open = true, .doc = "relative residual at which \"pcg\" stops"},
-         {.name = "pcg_max_iterations", .type = K::Integer, .default_value = 0LL, .min = 0.0, .max = 1e8,
+         {.name = "pcg_max_iterations", .type = K::Integer, .default_value = static_cast<long long>(LinearSolverSettings{}.pcg_max_iterations), .min = 0.0, .max = 1e8,
           .allowed = "an integer from 0 (scaled to the problem) to 100000000",
-          .doc = "iteration limit of \"pcg\"; 0: max(200, 20 sqrt(n)); not converging is a solver failure"}}};
+          .doc = "iteration limit of \"pcg\"; 0: max(200, 20 sqrt(n)); not converging is a solver failure"},
+         {.name = "options", .type = K::String, .default_value = LinearSolverSettings{}.options,
+          .allowed = "no options for a solver that takes none",
+          .doc = "options passed to solvers that take them (none of the built-in ones does)"}}};
   }();
   return s;
 }
@@ -86,14 +91,14 @@ const SectionSpec& bar_section() {
         .doc = "Young's moduli [left, right]"},
        {.name = "end_displacement", .type = K::Number, .allowed = "a finite number",
         .doc = "delta, prescribed at x = L (x = 0 is fixed)"},
-       {.name = "points_per_element", .type = K::Integer, .default_value = 2LL, .min = 1.0, .max = 4.0,
+       {.name = "points_per_element", .type = K::Integer, .default_value = static_cast<long long>(BarConfig{}.points_per_element), .min = 1.0, .max = 4.0,
         .allowed = "an integer from 1 to 4 (Gauss points per element)", .doc = "Gauss points (material points) per element"}}};
   return s;
 }
 
 const SectionSpec& bar_output_section() {
   static const SectionSpec s{"output", SectionKind::Section, false, "outputs",
-                             {{.name = "plot", .type = K::Boolean, .default_value = true,
+                             {{.name = "plot", .type = K::Boolean, .default_value = BarOutputOptions{}.plot,
                                .doc = "write bar.png with Python 3 + matplotlib ($GRADMPM_PYTHON, else /usr/bin/python3, else python3)"}}};
   return s;
 }
@@ -164,23 +169,23 @@ const std::vector<SectionSpec>& mpm_sections() {
         {"load_steps", SectionKind::Section, true, "the load stepping",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
         {"nonlinear_solver", SectionKind::Section, false, "Newton-Raphson",
-         {{.name = "tolerance", .type = K::Number, .default_value = 1e-9, .min = 0.0, .max = 1.0, .min_open = true,
+         {{.name = "tolerance", .type = K::Number, .default_value = NewtonSettings{}.tolerance, .min = 0.0, .max = 1.0, .min_open = true,
            .max_open = true, .doc = "on |r_free| / max(|f_ext|, |f_int|)"},
-          {.name = "max_iterations", .type = K::Integer, .default_value = 25LL, .min = 1.0, .max = 1000.0,
+          {.name = "max_iterations", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_iterations), .min = 1.0, .max = 1000.0,
            .doc = "Newton iterations per step before a cut"},
-          {.name = "max_cuts", .type = K::Integer, .default_value = 6LL, .min = 0.0, .max = 30.0,
+          {.name = "max_cuts", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_cuts), .min = 0.0, .max = 30.0,
            .doc = "halvings of a failing increment before the run stops"}}},
         linear_solver_section(),
         {"output", SectionKind::Section, false, "outputs",
-         {{.name = "vtk_every", .type = K::Integer, .default_value = 1LL, .min = 0.0,
+         {{.name = "vtk_every", .type = K::Integer, .default_value = static_cast<long long>(MpmOutputSettings{}.vtk_every), .min = 0.0,
            .allowed = "an integer >= 0 (0: no VTK output)", .doc = "VTK every n steps (and the last); 0: none"},
           {.name = "track", .type = K::Other, .type_text = "[integers]", .default_text = "none",
            .doc = "point ids written to tracked_points.csv every step"},
-          {.name = "check", .type = K::String, .default_value = std::string(""), .choices = {"", "column"},
+          {.name = "check", .type = K::String, .default_value = MpmOutputSettings{}.check, .choices = {"", "column"},
            .allowed = "\"column\" (or no key)",
            .doc = "`column`: compare with the column closed form (one Hencky material, nu = 0, one box body, gravity "
                   "along the last axis)"},
-          {.name = "plot", .type = K::Boolean, .default_value = true, .doc = "with check = \"column\": write column.png"}}},
+          {.name = "plot", .type = K::Boolean, .default_value = MpmOutputSettings{}.plot, .doc = "with check = \"column\": write column.png"}}},
         gradient_section(),
     };
   }();

@@ -1,7 +1,9 @@
 #pragma once
 // Every section and key of the case files, declared once (io/Keys.hpp): the readers
 // take defaults, ranges and messages from here, CaseFile takes the valid keys, and
-// `gradmpm keys --markdown` renders docs/case-files.md's tables.
+// `gradmpm keys` renders docs/case-files.md's tables. Defaults that code building a
+// model without a case file also needs live in the settings structs (NewtonSettings,
+// LinearSolverSettings, MpmOutputSettings, ...) and are taken from there.
 #include <vector>
 
 #include "gradmpm/io/Keys.hpp"

@@ -26,6 +26,9 @@ LinearSolverSettings read_linear_solver_settings(const CaseFile& cf) {
   cf.require(general && general->general, "linear_solver.general", sec.key("general").expected());
   s.pcg_tolerance = read_number(cf, sec.name, sec.key("pcg_tolerance"));
   s.pcg_max_iterations = static_cast<int>(read_integer(cf, sec.name, sec.key("pcg_max_iterations")));
+  s.options = read_string(cf, sec.name, sec.key("options"));
+  cf.require(s.options.empty() || registry.find(s.type)->takes_options, "linear_solver.options",
+             fmt::format("no options: \"{}\" takes none", s.type));
   return s;
 }
 

@@ -180,6 +180,13 @@ class LoadStep {
     }
   }
 
+  /// The active nodes' coordinates, one row per node in equation order.
+  Eigen::MatrixXd node_coordinates() const {
+    Eigen::MatrixXd x(dofs_.num_active_nodes(), dim);
+    for (int e = 0; e < dofs_.num_active_nodes(); ++e) x.row(e) = model_.grid.node_position(dofs_.node_of(e)).transpose();
+    return x;
+  }
+
   /// After commit: frees what only Newton needed (pattern, responses, trial state,
   /// gradients), keeping the stencils and the equation numbering for the grid fields.
   void release_newton_data() {
@@ -236,6 +243,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   // A non-symmetric tangent goes to a general solver as it is: never symmetrised.
   const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
   const auto solver = make_linear_solver(settings.linear_solver, kind);
+  solver->describe({dim, [&] { return step.node_coordinates(); }});
   std::unique_ptr<LinearSolver> general;  // made when a tangent is not positive definite
   Vector f_int;
   SparseMatrix K;

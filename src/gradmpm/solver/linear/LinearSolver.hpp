@@ -20,12 +20,25 @@
 
 namespace gradmpm {
 
+/// What a solver may want to know about a system besides its matrix: an algebraic
+/// multigrid (PETSc GAMG, hypre) wants the unknowns per node and the node coordinates
+/// for the rigid-body modes of elasticity. Direct solvers ignore it.
+struct SystemDescription {
+  int block_size = 1;  ///< unknowns per node (consecutive equations)
+  /// One row per node of the system, in equation order: x, y, z (dim columns). Computed
+  /// only when called; empty function: not known.
+  std::function<Eigen::MatrixXd()> node_coordinates;
+};
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   virtual std::string name() const = 0;
   /// true: solves any square matrix (reads both triangles); false: symmetric only.
   virtual bool general() const = 0;
+  /// Called before analyze() by callers that know more about the system (the Newton
+  /// driver: block size dim and the active nodes' coordinates). Default: ignored.
+  virtual void describe(const SystemDescription&) {}
 
   /// Symbolic analysis (ordering, elimination tree). Call again only if the pattern changes.
   void analyze(const SparseMatrix& A);
@@ -64,6 +77,9 @@ struct LinearSolverInfo {
   std::string doc;
   bool general = false;
   std::function<std::unique_ptr<LinearSolver>(const LinearSolverSettings&)> make;
+  /// Whether it reads LinearSolverSettings::options (e.g. a PETSc options string); the
+  /// case reader refuses options for a solver that would ignore them.
+  bool takes_options = false;
 };
 
 class LinearSolverRegistry : public Registry<LinearSolverRegistry, LinearSolverInfo, &LinearSolverInfo::name> {

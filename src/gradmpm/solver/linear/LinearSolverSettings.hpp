@@ -15,6 +15,9 @@ struct LinearSolverSettings {
   std::string general = "umfpack";
   double pcg_tolerance = 1e-12;  ///< relative residual of "pcg"
   int pcg_max_iterations = 0;    ///< 0: scaled to the problem, max(200, 20 sqrt(n))
+  /// Options for solvers that take them (LinearSolverInfo::takes_options), passed as
+  /// written, e.g. a PETSc options string. Empty for the built-in ones.
+  std::string options;
 };
 
 /// Which matrices a solve will see.
