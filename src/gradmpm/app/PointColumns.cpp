@@ -54,10 +54,7 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
   // State variables of every material, by name (first declaration wins the order). A
   // point whose material lacks a variable writes zero.
   for (std::size_t mi = 0; mi < m.materials.size(); ++mi) {
-    int offset = 0;
     for (const StateVariable& v : m.materials[mi]->state_variables()) {
-      const int at = offset;
-      offset += v.size();
       if (std::find(state_.begin(), state_.end(), v.name) != state_.end()) continue;
       state_.push_back(v.name);
       if (has(v.name)) continue;  // a fixed column (elastic_strain) already reports it

@@ -26,21 +26,21 @@ class EigenSolver final : public LinearSolver {
 
  protected:
   void do_analyze(const SparseMatrix& A) override {
-    typename Traits::Guard guard;
+    [[maybe_unused]] typename Traits::Guard guard;
     decomposition_.analyzePattern(hold(A));  // a failure surfaces in factorize
   }
   void do_factorize(const SparseMatrix& A) override {
-    typename Traits::Guard guard;
+    [[maybe_unused]] typename Traits::Guard guard;
     decomposition_.factorize(hold(A));
     if (const std::string why = Traits::failure(decomposition_); !why.empty())
       throw SolverError("sparse factorisation (" + name() + ") failed: " + why);
   }
   Vector do_solve(const Vector& b) const override {
-    typename Traits::Guard guard;
+    [[maybe_unused]] typename Traits::Guard guard;
     return decomposition_.solve(b);
   }
   Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override {
-    typename Traits::Guard guard;
+    [[maybe_unused]] typename Traits::Guard guard;
     return decomposition_.solve(B);
   }
 
