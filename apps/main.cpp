@@ -5,8 +5,8 @@
 //
 // Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input (case file,
 // key, value, command line, or an output path that cannot be written).
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <exception>
 
@@ -23,10 +23,10 @@ int main(int argc, char** argv) {
 
   gradmpm::RunOptions options;
   std::string case_file;
-  CLI::App* run = app.add_subcommand(
-      "run",
-      "Run the analysis a case file describes and write its outputs (CSV, plots) to DIR.\n"
-      "Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input or unwritable output.");
+  CLI::App* run =
+      app.add_subcommand("run",
+                         "Run the analysis a case file describes and write its outputs (CSV, plots) to DIR.\n"
+                         "Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input or unwritable output.");
   run->add_option("case", case_file, "TOML case file, e.g. examples/bar_bimaterial.toml")->required();
   run->add_option("-o,--out", options.out, "output directory (created if needed; default out/<case name>)");
   run->add_option("-s,--set", options.overrides,

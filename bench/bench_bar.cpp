@@ -24,8 +24,8 @@ int main(int argc, char** argv) {
       const gradmpm::BarResult r = gradmpm::solve_bar(c);
       const long nnz = 3L * r.dofs - 2;  // tridiagonal in 1D
       fmt::print("{:>8} {:>9} {:>9} {:>6.2g} {:>11.4f} {:>11.4f} {:>11.4f} {:>11.4f} {:>9.2f}\n",
-                 gradmpm::to_string(variant), r.dofs, r.points.size(), static_cast<double>(nnz),
-                 r.timings.assembly_s, r.timings.classical_solve_s, r.timings.gradient_s, r.timings.recovery_s,
+                 gradmpm::to_string(variant), r.dofs, r.points.size(), static_cast<double>(nnz), r.timings.assembly_s,
+                 r.timings.classical_solve_s, r.timings.gradient_s, r.timings.recovery_s,
                  r.timings.gradient_s / r.timings.classical_solve_s);
     }
   }

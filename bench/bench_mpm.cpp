@@ -131,17 +131,17 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   // the step's iterations; its own factorisation and solves count as solver time.
   const double ratio_g = (pattern + assembly + analysis + update + (gradient_s - gradient_solver_s) / its) /
                          (factor + solve + gradient_solver_s / its);
-  const std::string row =
-      fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f}", name, dim, step.dofs,
-                  m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
-                  gradient_s, peak_mib());
+  const std::string row = fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f}", name,
+                                      dim, step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly,
+                                      analysis, factor, solve, update, gradient_s, peak_mib());
   csv << row << "\n";
   csv.flush();
-  fmt::print("{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
-             "factor {:.4f}  solve {:.4f}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
-             "with gradient {:.2f}\n",
-             name, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis, factor, solve,
-             update, gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
+  fmt::print(
+      "{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
+      "factor {:.4f}  solve {:.4f}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
+      "with gradient {:.2f}\n",
+      name, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis, factor,
+      solve, update, gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
   std::fflush(stdout);
 }
 
@@ -154,14 +154,22 @@ int main(int argc, char** argv) {
   std::string only;  // "case:size"
   std::string solver = "cholmod";
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick")) quick = true;
-    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
-    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else if (!std::strcmp(argv[i], "--solver") && i + 1 < argc) solver = argv[++i];
-    else if (!std::strcmp(argv[i], "--step") && i + 1 < argc) reported_step = std::max(1, std::atoi(argv[++i]));
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
+      threads = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+      csv_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
+      only = argv[++i];
+    else if (!std::strcmp(argv[i], "--solver") && i + 1 < argc)
+      solver = argv[++i];
+    else if (!std::strcmp(argv[i], "--step") && i + 1 < argc)
+      reported_step = std::max(1, std::atoi(argv[++i]));
     else {
-      fmt::print(stderr, "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--step K]\n");
+      fmt::print(
+          stderr,
+          "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--step K]\n");
       return 2;
     }
   }
@@ -171,7 +179,8 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "bench_mpm: cannot write {}\n", csv_path);
     return 2;
   }
-  csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_mib\n";
+  csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_"
+         "mib\n";
   fmt::print("bench_mpm: {} thread(s), {} sweep; seconds per Newton iteration\n", threads, quick ? "quick" : "full");
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
@@ -197,12 +206,13 @@ int main(int argc, char** argv) {
   for (int r : refine) {
     const double h = 0.125 / r;
     bench<2>("footing_2d",
-             CaseFile::load(footing, {fmt::format("grid.origin=[{},{}]", -h, -2 * h), fmt::format("grid.cell_size={}", h),
-                                      fmt::format("grid.cells=[{},{}]", 35 * r, 20 * r),
-                                      fmt::format("constraints[0].min=[{},{}]", -h, -2 * h),
-                                      fmt::format("constraints[1].min=[{},{}]", -h, -2 * h),
-                                      fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
-                                      fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0", solver_key}),
+             CaseFile::load(
+                 footing, {fmt::format("grid.origin=[{},{}]", -h, -2 * h), fmt::format("grid.cell_size={}", h),
+                           fmt::format("grid.cells=[{},{}]", 35 * r, 20 * r),
+                           fmt::format("constraints[0].min=[{},{}]", -h, -2 * h),
+                           fmt::format("constraints[1].min=[{},{}]", -h, -2 * h),
+                           fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
+                           fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0", solver_key}),
              csv, threads);
   }
   fmt::print("wrote {}\n", csv_path);

@@ -4,10 +4,10 @@
 //   build/studies/gradient_study OUT_DIR
 //   /usr/bin/python3 scripts/plot_gradient_study.py OUT_DIR docs/figures
 //
-// Case: examples/column_bimaterial_1d.toml, a bi-material Hencky column under self-weight (1D; H0 = 10, lower half E = 80,
-// upper half E = 400, rho0 g = 10, nu = 0; up to 48 % compression in the soft half), e-RA and
-// u-RA with l = 1. Reference: a very fine grid (1024 cells) solved in ONE load step and
-// smoothed once at the end. Compared: 20 load steps on 16 ... 128 cells with
+// Case: examples/column_bimaterial_1d.toml, a bi-material Hencky column under self-weight (1D; H0 = 10, lower half E =
+// 80, upper half E = 400, rho0 g = 10, nu = 0; up to 48 % compression in the soft half), e-RA and u-RA with l = 1.
+// Reference: a very fine grid (1024 cells) solved in ONE load step and smoothed once at the end. Compared: 20 load
+// steps on 16 ... 128 cells with
 //   apply = each_step, fields = points  (increments smoothed and carried by the points)
 //   apply = end,       fields = grid    (the total field smoothed once, on the final points)
 // (each_step + grid recomputes the total field at every report; its final answer is that
@@ -49,7 +49,8 @@ Run solve(CaseFile cf) {
   Model<dim>& m = c.model;
   GradientStep<dim> gradient(m, c.gradient);
   Run r;
-  run_quasi_static<dim>(m, c.newton, {&gradient}, [&](const Model<dim>&, const StepInfo& info) { r.classical_s += info.seconds; });
+  run_quasi_static<dim>(m, c.newton, {&gradient},
+                        [&](const Model<dim>&, const StepInfo& info) { r.classical_s += info.seconds; });
   r.gradient_s = gradient.seconds();
   const EnrichedFields<dim>& f = *gradient.fields();
   std::vector<int> order(m.points.size());
@@ -122,8 +123,9 @@ int main(int argc, char** argv) {
   // Cost in 2D: the footing example with e-RA, both choices.
   const fs::path src = fs::path(GRADMPM_SOURCE_DIR) / "examples" / "footing_2d.toml";
   for (const auto& [apply, fields] : {std::pair{"each_step", "points"}, std::pair{"end", "grid"}}) {
-    CaseFile cf = CaseFile::load(src, {"gradient.variant=e-RA", "gradient.length_scale=0.25",
-                                       std::string("gradient.apply=") + apply, std::string("gradient.fields=") + fields});
+    CaseFile cf =
+        CaseFile::load(src, {"gradient.variant=e-RA", "gradient.length_scale=0.25",
+                             std::string("gradient.apply=") + apply, std::string("gradient.fields=") + fields});
     MpmCase<2> c = read_mpm_case<2>(cf);
     Model<2>& m = c.model;
     GradientStep<2> gradient(m, c.gradient);

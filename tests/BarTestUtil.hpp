@@ -26,8 +26,6 @@ inline analytic::BimaterialBar closed_form(const BarConfig& c) {
 }
 
 /// Index of the grid node at x (x must be a node).
-inline int node_at(const BarConfig& c, double x) {
-  return static_cast<int>(std::lround(x / (c.length / c.elements)));
-}
+inline int node_at(const BarConfig& c, double x) { return static_cast<int>(std::lround(x / (c.length / c.elements))); }
 
 }  // namespace gradmpm::test

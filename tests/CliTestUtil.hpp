@@ -37,8 +37,8 @@ class ScratchDirTest : public ::testing::Test {
 
   /// Runs `env gradmpm args`, stdout and stderr kept in the scratch folder.
   CliResult run_gradmpm(const std::string& args, const std::string& env = "") const {
-    const std::string cmd = env + " " + GRADMPM_EXE + " " + args + " >" + (dir / "stdout").string() + " 2>" +
-                            (dir / "stderr").string();
+    const std::string cmd =
+        env + " " + GRADMPM_EXE + " " + args + " >" + (dir / "stdout").string() + " 2>" + (dir / "stderr").string();
     const int status = std::system(cmd.c_str());
     return {WEXITSTATUS(status), slurp(dir / "stdout"), slurp(dir / "stderr")};
   }

@@ -2,9 +2,9 @@
 // Shared model builders of the MPM tests.
 #include <memory>
 
+#include "gradmpm/analytic/Column.hpp"
 #include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/LinearElastic.hpp"
-#include "gradmpm/analytic/Column.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
 
@@ -33,7 +33,8 @@ Model<dim> make_column(int cells, BasisKind basis, int ppc = 2) {
   m.materials.push_back(std::make_shared<Hencky>(kE, 0.0, kRho));
   m.basis = basis;
   m.gravity[dim - 1] = -kG;
-  add_regular_points<dim>(m.grid, first, last, ppc, [](const Vec<dim>&) { return true; }, 0, kRho, m.points);
+  add_regular_points<dim>(
+      m.grid, first, last, ppc, [](const Vec<dim>&) { return true; }, 0, kRho, m.points);
   for (int node = 0; node < m.grid.num_nodes(); ++node) {
     const auto ijk = m.grid.node_ijk(node);
     if (ijk[dim - 1] <= 1)

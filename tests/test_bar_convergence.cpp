@@ -17,8 +17,8 @@ double midpoint_error(int elements) {
   const auto bar = closed_form(c);
   double err = 0;
   for (int e = 0; e < elements; ++e)
-    err = std::max(err, std::abs(r.element_strain_gradient[e] -
-                                 bar.gradient_strain(r.element_midpoint[e], c.length_scale)));
+    err = std::max(err,
+                   std::abs(r.element_strain_gradient[e] - bar.gradient_strain(r.element_midpoint[e], c.length_scale)));
   return err / bar.gradient_strain(0.0, c.length_scale);
 }
 
@@ -56,6 +56,4 @@ TEST(BarConvergence, URAStrainAtMidpointsIsSecondOrder) {
   check_rates("u-RA, strain at element mid-points", midpoint_error);
 }
 
-TEST(BarConvergence, ERANodalStrainIsSecondOrder) {
-  check_rates("e-RA, strain at nodes", nodal_error);
-}
+TEST(BarConvergence, ERANodalStrainIsSecondOrder) { check_rates("e-RA, strain at nodes", nodal_error); }

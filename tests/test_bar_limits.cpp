@@ -18,8 +18,7 @@ using namespace gradmpm::test;
 TEST(BarLimits, ZeroLengthScaleURAIsClassical) {
   const BarResult r = solve_bar(paper_bar(GradientVariant::U_RA, 64, 0.0));
   EXPECT_LT((r.u_gradient - r.u_classical).lpNorm<Eigen::Infinity>(), 1e-15);
-  for (int p = 0; p < r.points.size(); ++p)
-    EXPECT_NEAR(r.point_strain_gradient[p], r.point_strain_classical[p], 1e-13);
+  for (int p = 0; p < r.points.size(); ++p) EXPECT_NEAR(r.point_strain_gradient[p], r.point_strain_classical[p], 1e-13);
 }
 
 TEST(BarLimits, VanishingLengthScaleERAConvergesToClassical) {

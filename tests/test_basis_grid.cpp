@@ -72,7 +72,8 @@ TEST(GaussPoints, IntegratePolynomialsExactly) {
   const Grid<2> grid(Vec<2>(0.0, 0.0), Vec<2>(0.5, 0.25), {4, 8});
   for (int n = 1; n <= 4; ++n) {
     MaterialPoints<2> pts;
-    add_gauss_points<2>(grid, {0, 0}, {4, 8}, n, [](const Vec<2>&) { return 0; }, pts);
+    add_gauss_points<2>(
+        grid, {0, 0}, {4, 8}, n, [](const Vec<2>&) { return 0; }, pts);
     ASSERT_EQ(pts.size(), 32 * n * n);
     const int deg = 2 * n - 1;
     double integral = 0, volume = 0;
@@ -97,7 +98,8 @@ TEST(Transfer, PointsOutsideTheGridAreListed) {
     evaluate_stencils<1, LinearBasis<1>>(grid, pts);
     FAIL() << "expected std::out_of_range";
   } catch (const std::out_of_range& e) {
-    EXPECT_NE(std::string(e.what()).find("2 material point(s) outside the grid (ids): 1, 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("2 material point(s) outside the grid (ids): 1, 2"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -58,19 +58,23 @@ TEST(CaseFile, SetOverridesAnyKey) {
 
 TEST(CaseFile, MessagesNameFileKeyAndExpectation) {
   EXPECT_EQ(error_of({"bar.length=-1"}), "case.toml: bar.length (from --set): expected a length > 0, got -1");
-  EXPECT_EQ(error_of({"bar.elements=0"}), "case.toml: bar.elements (from --set): expected an integer from 1 to 50000000, got 0");
+  EXPECT_EQ(error_of({"bar.elements=0"}),
+            "case.toml: bar.elements (from --set): expected an integer from 1 to 50000000, got 0");
   EXPECT_EQ(error_of({"bar.elements=8.5"}), "case.toml: bar.elements (from --set): expected an integer, got 8.5");
   EXPECT_EQ(error_of({"bar.length=ten"}), "case.toml: bar.length (from --set): expected a number, got \"ten\"");
   EXPECT_EQ(error_of({"gradient.length_scale=-0.5"}),
             "case.toml: gradient.length_scale (from --set): expected a length scale l >= 0, got -0.5");
   for (const char* s : {"bar.split=0", "bar.split=1", "bar.split=1.5", "bar.split=-0.2"})
     EXPECT_NE(error_of({s}).find("expected a fraction of the length strictly between 0 and 1"), std::string::npos) << s;
-  EXPECT_EQ(error_of({"bar.young=[1000.0]"}), "case.toml: bar.young (from --set): expected an array of 2 numbers, got [ 1000.0 ]");
+  EXPECT_EQ(error_of({"bar.young=[1000.0]"}),
+            "case.toml: bar.young (from --set): expected an array of 2 numbers, got [ 1000.0 ]");
   EXPECT_NE(error_of({"bar.young=[1000.0, -5]"}).find("two Young's moduli > 0"), std::string::npos);
-  EXPECT_NE(error_of({"gradient.variant=x-RA"}).find("expected one of \"u-RA\", \"e-RA\", \"s-RA\", \"none\", got \"x-RA\""),
-            std::string::npos);
-  EXPECT_NE(error_of({"bar.lenght=3"}).find("case.toml: bar.lenght (from --set): unknown key (valid keys in [bar]: length,"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of({"gradient.variant=x-RA"}).find("expected one of \"u-RA\", \"e-RA\", \"s-RA\", \"none\", got \"x-RA\""),
+      std::string::npos);
+  EXPECT_NE(
+      error_of({"bar.lenght=3"}).find("case.toml: bar.lenght (from --set): unknown key (valid keys in [bar]: length,"),
+      std::string::npos);
   EXPECT_NE(error_of({"mesh.size=3"}).find("case.toml: unknown section [mesh]"), std::string::npos);
 }
 

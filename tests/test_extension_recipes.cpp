@@ -17,12 +17,12 @@
 //     load step, sees the committed state, and runs before the observer.
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 #include <unistd.h>
+#include <Eigen/Dense>
 
+#include <fmt/format.h>
 #include <cmath>
 #include <iostream>
-#include <fmt/format.h>
 
 #include "CliTestUtil.hpp"
 #include "gradmpm/app/MpmCase.hpp"
@@ -73,10 +73,11 @@ class ToyAnisotropic final : public Material {
 
 void register_toy_law() {
   MaterialInfo info{"toy-anisotropic", "test only", isotropic_elasticity_keys(), {}};
-  info.keys.push_back({.name = "coupling", .type = KeyType::Number, .default_value = 0.0, .min = 0.0,
-                       .doc = "extra D_xxyy"});
+  info.keys.push_back(
+      {.name = "coupling", .type = KeyType::Number, .default_value = 0.0, .min = 0.0, .doc = "extra D_xxyy"});
   info.keys.push_back({.name = "claim_symmetric", .type = KeyType::Boolean, .default_value = false, .doc = "lie"});
-  info.make = [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) -> std::shared_ptr<const Material> {
+  info.make = [](const CaseFile& cf, const std::string& prefix,
+                 const MaterialInfo& self) -> std::shared_ptr<const Material> {
     const ElasticSolid s = read_elastic_solid(cf, prefix, self);
     return std::make_shared<ToyAnisotropic>(s.elasticity, read_number(cf, prefix, self.keys[3]),
                                             read_boolean(cf, prefix, self.keys[4]));
@@ -135,7 +136,8 @@ struct Solved {
 Solved solve(const std::string& text, const std::vector<std::string>& sets = {}) {
   CaseFile cf = CaseFile::parse(text, "toy.toml", sets);
   Solved s{read_mpm_case<2>(cf), {}};
-  run_quasi_static<2>(s.c.model, s.c.newton, [&](const Model<2>&, const StepInfo& info) { s.residuals = info.residuals; });
+  run_quasi_static<2>(s.c.model, s.c.newton,
+                      [&](const Model<2>&, const StepInfo& info) { s.residuals = info.residuals; });
   return s;
 }
 
@@ -154,7 +156,8 @@ TEST(Recipes, AMaterialDefinedInATestReadsItsKeysAndRunsFromACaseFile) {
     read_mpm_case<2>(cf);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("materials.toy.coupling (from --set): expected a number >= 0"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("materials.toy.coupling (from --set): expected a number >= 0"),
+              std::string::npos)
         << e.what();
   }
   try {
@@ -187,7 +190,8 @@ TEST(Recipes, ANonSymmetricTangentIsSolvedAsSuchNeverSymmetrised) {
   } catch (const SolverError&) {
   }
   std::cout << "non-symmetric tangent as such: " << s.residuals.size() - 1 << " iteration(s); symmetrised: "
-            << (lying.empty() ? std::string("no convergence") : std::to_string(lying.size() - 1) + " iterations") << "\n";
+            << (lying.empty() ? std::string("no convergence") : std::to_string(lying.size() - 1) + " iterations")
+            << "\n";
   EXPECT_TRUE(lying.empty() || lying.size() > 2u) << "symmetrising gave the exact Newton step";
 }
 
@@ -276,8 +280,9 @@ TEST(Recipes, ALinearSolverDefinedInATestIsChosenFromTheCaseFile) {
     read_mpm_case<2>(refused);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("linear_solver.options (from --set): expected no options: \"cholmod\" takes none"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("linear_solver.options (from --set): expected no options: \"cholmod\" takes none"),
+        std::string::npos)
         << e.what();
   }
   double diff = 0.0, scale = 0.0;
@@ -310,12 +315,13 @@ TEST(Recipes, APostStepStageRunsAfterEveryStepOnTheCommittedStateBeforeTheObserv
   MpmCase<2> c = read_mpm_case<2>(cf);
   RecordingStage stage;
   std::vector<double> observed_tops;
-  const RunSummary summary = run_quasi_static<2>(c.model, c.newton, {&stage}, [&](const Model<2>& m, const StepInfo& info) {
-    stage.log.push_back(fmt::format("observer {}", info.step));
-    double top = 0.0;
-    for (const auto& x : m.points.position) top = std::max(top, x[1]);
-    observed_tops.push_back(top);
-  });
+  const RunSummary summary =
+      run_quasi_static<2>(c.model, c.newton, {&stage}, [&](const Model<2>& m, const StepInfo& info) {
+        stage.log.push_back(fmt::format("observer {}", info.step));
+        double top = 0.0;
+        for (const auto& x : m.points.position) top = std::max(top, x[1]);
+        observed_tops.push_back(top);
+      });
   ASSERT_EQ(summary.steps, 4);
   ASSERT_EQ(stage.log.size(), 8u);
   for (int s = 1; s <= 4; ++s) {

@@ -24,9 +24,9 @@ struct Bar1D {
   PointStencils<1> st;
   DofMap dofs;
   SparseMatrix pattern;
-  explicit Bar1D(int elements, int gauss = 2)
-      : grid(Vec<1>(0.0), Vec<1>(kLength / elements), {elements}) {
-    add_gauss_points<1>(grid, {0}, {elements}, gauss, [](const Vec<1>&) { return 0; }, points);
+  explicit Bar1D(int elements, int gauss = 2) : grid(Vec<1>(0.0), Vec<1>(kLength / elements), {elements}) {
+    add_gauss_points<1>(
+        grid, {0}, {elements}, gauss, [](const Vec<1>&) { return 0; }, points);
     st = evaluate_stencils<1, LinearBasis<1>>(grid, points);
     dofs = DofMap(st, grid.num_nodes(), 1);
     pattern = build_pattern(st, dofs);
@@ -116,7 +116,8 @@ TEST(Helmholtz, TwoDimensionalOperatorDampsAPlaneWave) {
   const int n = 64;
   const Grid<2> grid(Vec<2>(0.0, 0.0), Vec<2>(1.0 / n, 1.0 / n), {n, n});
   MaterialPoints<2> pts;
-  add_gauss_points<2>(grid, {0, 0}, {n, n}, 2, [](const Vec<2>&) { return 0; }, pts);
+  add_gauss_points<2>(
+      grid, {0, 0}, {n, n}, 2, [](const Vec<2>&) { return 0; }, pts);
   const auto st = evaluate_stencils<2, LinearBasis<2>>(grid, pts);
   const DofMap dofs(st, grid.num_nodes(), 1);
   const SparseMatrix pattern = build_pattern(st, dofs);

@@ -56,7 +56,8 @@ TEST(Keys, DefaultsRangesAndMessagesComeFromTheDeclaration) {
     read_integer(bad, "nonlinear_solver", its);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "k.toml: nonlinear_solver.max_iterations: expected an integer from 1 to 1000, got 0");
+    EXPECT_EQ(std::string(e.what()),
+              "k.toml: nonlinear_solver.max_iterations: expected an integer from 1 to 1000, got 0");
   }
   const KeySpec& tol = nl.key("tolerance");
   EXPECT_EQ(tol.expected(), "a number in (0, 1)");
@@ -70,7 +71,8 @@ TEST(Keys, DefaultsRangesAndMessagesComeFromTheDeclaration) {
     read_string(spline, "basis", basis);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("expected \"mpm\", \"gimp\" (uGIMP) or \"cpgimp\", got \"spline\""), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("expected \"mpm\", \"gimp\" (uGIMP) or \"cpgimp\", got \"spline\""),
+              std::string::npos)
         << e.what();
   }
 }

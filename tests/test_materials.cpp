@@ -87,8 +87,9 @@ Mat9 dense_hencky_tangent(const MaterialResponse& r, double young, double poisso
   Mat3 theta;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b)
-      theta(a, b) = std::abs(lam[a] - lam[b]) < 1e-12 * lam[a] ? 1.0 / lam[a]
-                                                               : (std::log(lam[a]) - std::log(lam[b])) / (lam[a] - lam[b]);
+      theta(a, b) = std::abs(lam[a] - lam[b]) < 1e-12 * lam[a]
+                        ? 1.0 / lam[a]
+                        : (std::log(lam[a]) - std::log(lam[b])) / (lam[a] - lam[b]);
   Mat9 L = Mat9::Zero();
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) {
@@ -177,7 +178,8 @@ TEST(Hencky, PlaneAndUniaxialTangentsAreBlocksOfTheFullOne) {
     for (int i = 0; i < dim; ++i)
       for (int j = 0; j < dim; ++j)
         for (int k = 0; k < dim; ++k)
-          for (int l = 0; l < dim; ++l) err = std::max(err, std::abs(A(3 * i + j, 3 * k + l) - full(3 * i + j, 3 * k + l)));
+          for (int l = 0; l < dim; ++l)
+            err = std::max(err, std::abs(A(3 * i + j, 3 * k + l) - full(3 * i + j, 3 * k + l)));
     EXPECT_LT(err, 1e-13 * full.cwiseAbs().maxCoeff()) << "dim " << dim;
   }
 }
@@ -206,11 +208,11 @@ TEST(Hencky, StressIsElasticityOfTheLogarithmicStrain) {
   const Updated u = respond(hencky, dF, eps_n);
   // Reference: b_e and its logarithm through a general eigen-decomposition.
   Eigen::SelfAdjointEigenSolver<Mat3> en(eps_n);
-  const Mat3 be_n = en.eigenvectors() * (2.0 * en.eigenvalues()).array().exp().matrix().asDiagonal() *
-                    en.eigenvectors().transpose();
+  const Mat3 be_n =
+      en.eigenvectors() * (2.0 * en.eigenvalues()).array().exp().matrix().asDiagonal() * en.eigenvectors().transpose();
   Eigen::SelfAdjointEigenSolver<Mat3> eb(dF * be_n * dF.transpose());
-  const Mat3 eps = eb.eigenvectors() * (0.5 * eb.eigenvalues().array().log()).matrix().asDiagonal() *
-                   eb.eigenvectors().transpose();
+  const Mat3 eps =
+      eb.eigenvectors() * (0.5 * eb.eigenvalues().array().log()).matrix().asDiagonal() * eb.eigenvectors().transpose();
   EXPECT_LT((u.strain - eps).norm(), 1e-14);
   EXPECT_LT((u.r.stress - hencky.elasticity().stress(eps)).norm(), 1e-11);
 }

@@ -24,10 +24,13 @@ Model<1> bar_model(const BarConfig& c, BasisKind basis = BasisKind::MPM) {
                  std::make_shared<LinearElastic>(c.young_right, 0.0, 1.0)};
   const double a = c.split * c.length;
   if (basis == BasisKind::MPM) {  // points at the Gauss positions: the FEM quadrature
-    add_gauss_points<1>(m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] < a ? 0 : 1; }, m.points);
+    add_gauss_points<1>(
+        m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] < a ? 0 : 1; }, m.points);
   } else {  // GIMP: domains must tile the bar, so the points sit at sub-cell centres
-    add_regular_points<1>(m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] < a; }, 0, 1.0, m.points);
-    add_regular_points<1>(m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] > a; }, 1, 1.0, m.points);
+    add_regular_points<1>(
+        m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] < a; }, 0, 1.0, m.points);
+    add_regular_points<1>(
+        m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] > a; }, 1, 1.0, m.points);
   }
   // The pull acts on every node at x >= L (a platen), so that material moving past x = L
   // stays loaded.
@@ -86,6 +89,7 @@ TEST(MpmBar, ManyLoadStepsWithMovingPointsStayWithinTolerance) {
     }
   for (int steps : {10, 100}) {
     EXPECT_LT(bulk_of[std::make_pair(BasisKind::CPGIMP, steps)], 0.02) << steps << " steps";
-    EXPECT_GT(bulk_of[std::make_pair(BasisKind::MPM, steps)], 10 * bulk_of[std::make_pair(BasisKind::CPGIMP, steps)]) << steps << " steps";
+    EXPECT_GT(bulk_of[std::make_pair(BasisKind::MPM, steps)], 10 * bulk_of[std::make_pair(BasisKind::CPGIMP, steps)])
+        << steps << " steps";
   }
 }

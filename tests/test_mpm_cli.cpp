@@ -4,8 +4,8 @@
 //  - the VTK files are complete XML that ParaView reads (.pvd lists each .vtu);
 //  - the 1D and 2D column examples settle to at most 0.7 H0 and meet the closed form;
 //  - a diverging run exits with code 1 and leaves the files of converged steps complete.
-#include <cmath>
 #include <gtest/gtest.h>
+#include <cmath>
 
 #include "CliTestUtil.hpp"
 
@@ -49,8 +49,8 @@ TEST_F(MpmCli, ColumnExamplesWritePointsFinalAndMeetTheClosedForm) {
       ASSERT_EQ(r.size(), 21u);
       top = std::max(top, r[4 + axis]);
       mass += r[14];
-      EXPECT_EQ(r[3], 0.0);  // Z unused
-      EXPECT_EQ(r[6], 0.0);  // z unused
+      EXPECT_EQ(r[3], 0.0);                 // Z unused
+      EXPECT_EQ(r[6], 0.0);                 // z unused
       if (axis == 0) EXPECT_EQ(r[2], 0.0);  // Y unused in 1D
       const double Y = r[1 + axis], s = r[7 + axis];
       EXPECT_NEAR(s, -1.0 * 10.0 * (10.0 - Y), 0.025 * 100.0) << name << " Y = " << Y;  // measured 1.8 %
@@ -66,13 +66,16 @@ TEST_F(MpmCli, ColumnExamplesWritePointsFinalAndMeetTheClosedForm) {
 }
 
 TEST_F(MpmCli, VtkOutputIsCompleteAndIndexed) {
-  ASSERT_EQ(run(example("column_2d.toml") + " --out " + dir.string() + " --set output.vtk_every=10 --set output.plot=false"), 0);
+  ASSERT_EQ(
+      run(example("column_2d.toml") + " --out " + dir.string() + " --set output.vtk_every=10 --set output.plot=false"),
+      0);
   const std::string pvd = slurp(dir / "points.pvd");
   for (const char* f : {"points_0000.vtu", "points_0010.vtu", "points_0020.vtu"}) {
     EXPECT_NE(pvd.find(f), std::string::npos) << f;
     const std::string vtu = slurp(dir / f);
     EXPECT_NE(vtu.find("<Piece NumberOfPoints=\"64\" NumberOfCells=\"64\">"), std::string::npos);
-    for (const char* field : {"\"displacement\"", "\"stress\"", "\"elastic_strain\"", "\"volume\"", "\"mass\"", "\"material\""})
+    for (const char* field :
+         {"\"displacement\"", "\"stress\"", "\"elastic_strain\"", "\"volume\"", "\"mass\"", "\"material\""})
       EXPECT_NE(vtu.find(field), std::string::npos) << f << " " << field;
     EXPECT_EQ(vtu.substr(vtu.size() - 11), "</VTKFile>\n");
   }
@@ -114,7 +117,8 @@ TEST_F(MpmCli, BarAsMpmWritesTheFoundationColumns) {
 TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {
   const std::string bar = example("bar_bimaterial_mpm.toml") + " --out " + dir.string();
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {bar + " --set gradient.apply=end --set gradient.fields=points", "expected \"grid\" when gradient.apply = \"end\""},
+      {bar + " --set gradient.apply=end --set gradient.fields=points",
+       "expected \"grid\" when gradient.apply = \"end\""},
       {bar + " --set gradient.apply=sometimes", "gradient.apply (from --set): expected \"each_step\" or \"end\""},
       {bar + " --set gradient.fields=nodes", "gradient.fields (from --set): expected \"points\" or \"grid\""},
       {bar + " --set mpm.basis=spline", "mpm.basis (from --set): expected \"mpm\", \"gimp\" or \"cpgimp\""},

@@ -42,8 +42,8 @@ std::vector<Row> sweep(BasisKind basis) {
               << "  max position err " << e.position;
     if (rows.size() > 1) {
       const auto& p = rows[rows.size() - 2].e;
-      std::cout << "  rates " << std::log2(p.stress / e.stress) << " / " << std::log2(p.stress_l2 / e.stress_l2) << " / "
-                << std::log2(p.position / e.position);
+      std::cout << "  rates " << std::log2(p.stress / e.stress) << " / " << std::log2(p.stress_l2 / e.stress_l2)
+                << " / " << std::log2(p.position / e.position);
     }
     std::cout << "\n";
   }

@@ -15,9 +15,9 @@
 
 #include "BarTestUtil.hpp"
 #include "MpmTestUtil.hpp"
+#include "gradmpm/gradient/MpmGradient.hpp"
 #include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/LinearElastic.hpp"
-#include "gradmpm/gradient/MpmGradient.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
 #include "gradmpm/points/Transfer.hpp"
@@ -32,7 +32,8 @@ Model<2> uniform_block(BasisKind basis) {
   Model<2> m(Grid<2>(Vec<2>(-0.25, -0.25), Vec<2>(0.125, 0.125), {12, 12}));
   m.basis = basis;
   m.materials.push_back(std::make_shared<LinearElastic>(100.0, 0.25, 1.0));
-  add_regular_points<2>(m.grid, {2, 2}, {10, 10}, 2, [](const Vec<2>&) { return true; }, 0, 1.0, m.points);
+  add_regular_points<2>(
+      m.grid, {2, 2}, {10, 10}, 2, [](const Vec<2>&) { return true; }, 0, 1.0, m.points);
   Eigen::Matrix2d G;
   G << 0.01, 0.004, -0.002, -0.006;
   for (int node = 0; node < m.grid.num_nodes(); ++node) {
@@ -63,9 +64,11 @@ TEST(MpmGradient, UniformStrainIsLeftUnchanged2D) {
       for (int p = 0; p < m.points.size(); ++p) {
         strain_dev = std::max(strain_dev, (f.strain[p] - m.elastic_strain(p)).norm());
         strain_scale = std::max(strain_scale, m.elastic_strain(p).norm());
-        disp_dev = std::max(disp_dev, (f.displacement[p] - (m.points.position[p] - m.points.original_position[p])).norm());
+        disp_dev =
+            std::max(disp_dev, (f.displacement[p] - (m.points.position[p] - m.points.original_position[p])).norm());
       }
-      std::cout << to_string(v) << ", " << to_string(b) << ": max |eps_g - eps_c| / |eps_c| = " << strain_dev / strain_scale
+      std::cout << to_string(v) << ", " << to_string(b)
+                << ": max |eps_g - eps_c| / |eps_c| = " << strain_dev / strain_scale
                 << ", max |u_g - u_c| = " << disp_dev << "\n";
       if (v != GradientVariant::U_RA) {
         EXPECT_LT(strain_dev, 1e-13);
@@ -88,7 +91,8 @@ TEST(MpmGradient, PlaneWaveIsDampedOnTheMaterialPoints2D) {
   for (int n : {16, 32, 64}) {
     Model<2> m(Grid<2>(Vec<2>(0.0, 0.0), Vec<2>(1.0 / n, 1.0 / n), {n, n}));
     m.materials.push_back(std::make_shared<LinearElastic>(1.0, 0.0, 0.0));
-    add_regular_points<2>(m.grid, {0, 0}, {n, n}, 2, [](const Vec<2>&) { return true; }, 0, 0.0, m.points);
+    add_regular_points<2>(
+        m.grid, {0, 0}, {n, n}, 2, [](const Vec<2>&) { return true; }, 0, 0.0, m.points);
     m.initialise_state();
     for (int p = 0; p < m.points.size(); ++p) {  // the strain component xx of the state (core/SymmetricTensor.hpp)
       const auto& x = m.points.position[p];
@@ -96,7 +100,8 @@ TEST(MpmGradient, PlaneWaveIsDampedOnTheMaterialPoints2D) {
     }
     const auto f = smooth_total<2>(m, {GradientVariant::E_RA, l, GradientApply::End, GradientFields::Grid});
     double err = 0;
-    for (int p = 0; p < m.points.size(); ++p) err = std::max(err, std::abs(f.strain[p](0, 0) - damping * m.elastic_strain(p)(0, 0)));
+    for (int p = 0; p < m.points.size(); ++p)
+      err = std::max(err, std::abs(f.strain[p](0, 0) - damping * m.elastic_strain(p)(0, 0)));
     std::cout << "cells " << n << "  damping " << damping << "  max error at points " << err;
     if (previous > 0) {
       std::cout << "  rate " << std::log2(previous / err);
@@ -118,7 +123,8 @@ Model<1> gauss_bar(const BarConfig& c) {
   m.materials = {std::make_shared<LinearElastic>(c.young_left, 0.0, 0.0),
                  std::make_shared<LinearElastic>(c.young_right, 0.0, 0.0)};
   const double a = c.split * c.length;
-  add_gauss_points<1>(m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] < a ? 0 : 1; }, m.points);
+  add_gauss_points<1>(
+      m.grid, {0}, {c.elements}, 2, [&](const Vec<1>& x) { return x[0] < a ? 0 : 1; }, m.points);
   m.constraints = {{0, 0, 0.0}};
   for (int n = c.elements; n <= c.elements + extra; ++n) m.constraints.push_back({n, 0, c.end_displacement});
   return m;
@@ -176,8 +182,12 @@ TEST(MpmGradient, ThreeDimensionalColumnSmoothsLikeThe1DColumn) {
       GradientTracker<3> t3(m3, gs);
       NewtonSettings s;
       s.load_steps = 5;
-      run_quasi_static<1>(m1, s, [&](const Model<1>& m, const StepInfo&) { if (each_step) t1.after_step(m); });
-      run_quasi_static<3>(m3, s, [&](const Model<3>& m, const StepInfo&) { if (each_step) t3.after_step(m); });
+      run_quasi_static<1>(m1, s, [&](const Model<1>& m, const StepInfo&) {
+        if (each_step) t1.after_step(m);
+      });
+      run_quasi_static<3>(m3, s, [&](const Model<3>& m, const StepInfo&) {
+        if (each_step) t3.after_step(m);
+      });
       const auto f1 = each_step ? t1.fields() : smooth_total<1>(m1, gs);
       const auto f3 = each_step ? t3.fields() : smooth_total<3>(m3, gs);
       double dev = 0, scale = 0;
@@ -188,6 +198,7 @@ TEST(MpmGradient, ThreeDimensionalColumnSmoothsLikeThe1DColumn) {
         scale = std::max(scale, std::abs(f1.strain[q](0, 0)));
       }
       EXPECT_LT(dev / scale, 1e-9) << to_string(v) << (each_step ? " each step" : " at end");
-      EXPECT_GT(std::abs(f1.strain[0](0, 0) - m1.elastic_strain(0)(0, 0)), 1e-3 * scale) << "the smoothing did something";
+      EXPECT_GT(std::abs(f1.strain[0](0, 0) - m1.elastic_strain(0)(0, 0)), 1e-3 * scale)
+          << "the smoothing did something";
     }
 }

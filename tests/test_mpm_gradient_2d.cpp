@@ -16,8 +16,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -93,7 +93,8 @@ TEST(MpmGradient2D, BimaterialPlateSmoothingWidthScalesWithLengthScale) {
       const auto& P = r.model.points;
       double e1 = 0, e2 = 0, w = 0;
       for (int p = 0; p < P.size(); ++p) (P.material[p] == 0 ? e1 : e2) = r.model.elastic_strain(p)(0, 0);
-      for (int p = 0; p < P.size(); ++p) w += std::abs(r.fields.strain[p](0, 0) - r.model.elastic_strain(p)(0, 0)) * P.volume[p];
+      for (int p = 0; p < P.size(); ++p)
+        w += std::abs(r.fields.strain[p](0, 0) - r.model.elastic_strain(p)(0, 0)) * P.volume[p];
       w /= (e1 - e2) * 0.25;
       widths.push_back(w);
       std::cout << "l = " << l << "  h = l/" << per_l << "  width " << w << "  width / l " << w / l << "\n";
@@ -154,7 +155,8 @@ TEST(MpmGradient2D, IterativeSolverGivesTheDirectSolversEnrichedFields) {
       diff = std::max(diff, (direct.fields.strain[p] - iterative.fields.strain[p]).cwiseAbs().maxCoeff());
       udiff = std::max(udiff, (direct.fields.displacement[p] - iterative.fields.displacement[p]).cwiseAbs().maxCoeff());
     }
-    std::printf("%s: max strain difference pcg - cholmod %.2e (of %.2e), displacement %.2e\n", variant, diff, scale, udiff);
+    std::printf("%s: max strain difference pcg - cholmod %.2e (of %.2e), displacement %.2e\n", variant, diff, scale,
+                udiff);
     EXPECT_LT(diff, 1e-8 * scale) << variant;
     EXPECT_LT(udiff, 1e-8 * 1e-3) << variant;
   }
@@ -206,7 +208,8 @@ std::vector<std::pair<double, double>> column_profile(CaseFile cf) {
   return prof;
 }
 
-double max_difference(const std::vector<std::pair<double, double>>& a, const std::vector<std::pair<double, double>>& ref) {
+double max_difference(const std::vector<std::pair<double, double>>& a,
+                      const std::vector<std::pair<double, double>>& ref) {
   double d = 0;
   for (const auto& [Y, e] : a) {
     auto it = std::lower_bound(ref.begin(), ref.end(), std::make_pair(Y, -1e300));

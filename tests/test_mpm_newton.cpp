@@ -11,9 +11,9 @@
 #include <iostream>
 
 #include "MpmTestUtil.hpp"
+#include "gradmpm/core/Errors.hpp"
 #include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/LinearElastic.hpp"
-#include "gradmpm/core/Errors.hpp"
 
 using namespace gradmpm;
 using namespace gradmpm::test;
@@ -68,8 +68,8 @@ TEST(MpmNewton, FailingStepsAreCutAndRetried) {
   NewtonSettings sr;
   sr.load_steps = 8;
   run_quasi_static<2>(ref, sr);
-  std::cout << "cuts " << summary.cuts << " steps " << summary.steps << " stress error " << cut.stress << " (8 steps: "
-            << column_errors(ref).stress << ")\n";
+  std::cout << "cuts " << summary.cuts << " steps " << summary.steps << " stress error " << cut.stress
+            << " (8 steps: " << column_errors(ref).stress << ")\n";
   EXPECT_LT(cut.stress, 0.05);
 }
 
@@ -94,7 +94,8 @@ TEST(MpmNewton, PointsLeavingTheGridAreListed) {
   // A block pushed down through the bottom of its grid by a prescribed displacement.
   Model<1> m(Grid<1>(Vec<1>(0.0), Vec<1>(1.0), {4}));
   m.materials.push_back(std::make_shared<LinearElastic>(100.0, 0.0, 1.0));
-  add_regular_points<1>(m.grid, {0}, {4}, 1, [](const Vec<1>&) { return true; }, 0, 1.0, m.points);
+  add_regular_points<1>(
+      m.grid, {0}, {4}, 1, [](const Vec<1>&) { return true; }, 0, 1.0, m.points);
   for (int node = 0; node < 5; ++node) m.constraints.push_back({node, 0, -2.0});  // rigid shift by -2
   NewtonSettings s;
   s.load_steps = 2;

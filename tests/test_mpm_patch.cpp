@@ -33,8 +33,8 @@ Eigen::Matrix3d target_F(bool shear = true) {
 
 Eigen::Matrix3d hencky_cauchy(const Eigen::Matrix3d& F, double E, double nu) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(F * F.transpose());
-  const Eigen::Matrix3d eps =
-      eig.eigenvectors() * (0.5 * eig.eigenvalues().array().log()).matrix().asDiagonal() * eig.eigenvectors().transpose();
+  const Eigen::Matrix3d eps = eig.eigenvectors() * (0.5 * eig.eigenvalues().array().log()).matrix().asDiagonal() *
+                              eig.eigenvectors().transpose();
   const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
   return (lambda * eps.trace() * Eigen::Matrix3d::Identity() + 2 * mu * eps) / F.determinant();
 }
@@ -53,7 +53,8 @@ double patch(BasisKind basis, int steps, bool shear = true) {
   Model<dim> m(Grid<dim>(Vec<dim>::Constant(-0.5), Vec<dim>::Constant(0.25), cells));
   m.basis = basis;
   m.materials.push_back(std::make_shared<Hencky>(1000.0, 0.3, 1.0));
-  add_regular_points<dim>(m.grid, first, last, 2, [](const Vec<dim>&) { return true; }, 0, 1.0, m.points);
+  add_regular_points<dim>(
+      m.grid, first, last, 2, [](const Vec<dim>&) { return true; }, 0, 1.0, m.points);
   const Eigen::Matrix3d F = target_F<dim>(shear);
   const Eigen::Matrix<double, dim, dim> Fd = F.topLeftCorner<dim, dim>();
   for (int node = 0; node < m.grid.num_nodes(); ++node) {

@@ -33,7 +33,8 @@ TEST(Parallel, AssemblyEqualsSerialAssembly) {
   const int n = 48;
   const Grid<2> grid(Vec<2>(0.0, 0.0), Vec<2>(1.0 / n, 1.0 / n), {n, n});
   MaterialPoints<2> pts;
-  add_regular_points<2>(grid, {0, 0}, {n, n}, 3, [](const Vec<2>&) { return true; }, 0, 1.0, pts);
+  add_regular_points<2>(
+      grid, {0, 0}, {n, n}, 3, [](const Vec<2>&) { return true; }, 0, 1.0, pts);
   for (int p = 0; p < pts.size(); ++p) pts.position[p] += Vec<2>(0.1 / n * std::sin(p), 0.1 / n * std::cos(3.0 * p));
   const auto st = evaluate_stencils(grid, pts, BasisKind::MPM);  // perturbed points stay h/6 inside
   const DofMap dofs(st, grid.num_nodes(), 1);

@@ -26,7 +26,8 @@ struct Setup2D {
   DofMap dofs;
   Setup2D() {
     // Points in two cells only: nodes of the third column stay inactive.
-    add_gauss_points<2>(grid, {0, 0}, {2, 2}, 2, [](const Vec<2>&) { return 0; }, points);
+    add_gauss_points<2>(
+        grid, {0, 0}, {2, 2}, 2, [](const Vec<2>&) { return 0; }, points);
     st = evaluate_stencils<2, LinearBasis<2>>(grid, points);
     dofs = DofMap(st, grid.num_nodes(), 1);
   }
@@ -201,7 +202,8 @@ TEST(LinearSolver, ASolverDefinedInATestJoinsTheRegistryWithOneCall) {
   EXPECT_NE(LinearSolverRegistry::instance().quoted_names().find("\"toy-jacobi\""), std::string::npos);
 }
 
-TEST(LinearSolver, PreconditionedCgSolvesAndReportsFailure) {  // 2D five-point Laplacian (+ a small shift): incomplete Cholesky is not exact here.
+TEST(LinearSolver, PreconditionedCgSolvesAndReportsFailure) {  // 2D five-point Laplacian (+ a small shift): incomplete
+                                                               // Cholesky is not exact here.
   const int m = 30, n = m * m;
   std::vector<Eigen::Triplet<double>> t;
   for (int i = 0; i < m; ++i)

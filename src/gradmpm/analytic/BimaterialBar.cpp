@@ -42,8 +42,7 @@ double BimaterialBar::gradient_displacement(double x, double l) const {
   const double s = classical_stress();
   const double e1 = s / young_left, e2 = s / young_right, b = length - interface;
   if (x <= interface) return e1 * x - l * (e1 - e2) * hyp_ratio(x, b, length, l, -1.0);
-  return end_displacement - e2 * (length - x) -
-         l * (e1 - e2) * hyp_ratio(length - x, interface, length, l, -1.0);
+  return end_displacement - e2 * (length - x) - l * (e1 - e2) * hyp_ratio(length - x, interface, length, l, -1.0);
 }
 
 }  // namespace gradmpm::analytic

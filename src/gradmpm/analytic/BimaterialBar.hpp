@@ -4,10 +4,10 @@
 namespace gradmpm::analytic {
 
 struct BimaterialBar {
-  double length;       ///< L
-  double interface;    ///< a = split * L
-  double young_left;   ///< E1
-  double young_right;  ///< E2
+  double length;            ///< L
+  double interface;         ///< a = split * L
+  double young_left;        ///< E1
+  double young_right;       ///< E2
   double end_displacement;  ///< delta
 
   /// Classical: the stress is uniform, sigma = delta / (a/E1 + (L-a)/E2).

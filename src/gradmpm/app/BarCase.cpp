@@ -6,11 +6,11 @@
 #include <cmath>
 
 #include "gradmpm/analytic/BimaterialBar.hpp"
+#include "gradmpm/app/CaseKeys.hpp"
+#include "gradmpm/app/CommonKeys.hpp"
 #include "gradmpm/io/Csv.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
 #include "gradmpm/io/Python.hpp"
-#include "gradmpm/app/CaseKeys.hpp"
-#include "gradmpm/app/CommonKeys.hpp"
 
 namespace gradmpm {
 
@@ -97,8 +97,7 @@ double bar_strain_error(const BarConfig& c, const BarResult& r) {
   return scale > 0.0 ? err / scale : err;
 }
 
-void write_bar_outputs(const BarConfig& c, const BarResult& r, StagedOutputs& out,
-                       const BarOutputOptions& options) {
+void write_bar_outputs(const BarConfig& c, const BarResult& r, StagedOutputs& out, const BarOutputOptions& options) {
   const double h = c.length / c.elements;
   std::vector<double> u_exact, strain_exact;
   for (std::size_t i = 0; i < r.x.size(); ++i) {

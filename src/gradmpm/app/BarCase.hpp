@@ -25,7 +25,6 @@ double bar_strain_error(const BarConfig& c, const BarResult& r);
 
 /// Stages bar.csv, bar_points.csv and (if asked) bar.png in `out` and commits them:
 /// all appear, or none.
-void write_bar_outputs(const BarConfig& c, const BarResult& r, StagedOutputs& out,
-                       const BarOutputOptions& options);
+void write_bar_outputs(const BarConfig& c, const BarResult& r, StagedOutputs& out, const BarOutputOptions& options);
 
 }  // namespace gradmpm

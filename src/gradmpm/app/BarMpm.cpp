@@ -21,11 +21,13 @@ BarResult solve_bar_mpm(const BarMpmConfig& cfg, double* gradient_seconds, doubl
   m.materials = {std::make_shared<LinearElastic>(c.young_left, 0.0, 0.0),
                  std::make_shared<LinearElastic>(c.young_right, 0.0, 0.0)};
   if (cfg.basis == BasisKind::MPM) {
-    add_gauss_points<1>(m.grid, {0}, {c.elements}, c.points_per_element,
-                        [&](const Vec<1>& x) { return x[0] < a ? 0 : 1; }, m.points);
+    add_gauss_points<1>(
+        m.grid, {0}, {c.elements}, c.points_per_element, [&](const Vec<1>& x) { return x[0] < a ? 0 : 1; }, m.points);
   } else {  // GIMP domains must tile the bar
-    add_regular_points<1>(m.grid, {0}, {c.elements}, c.points_per_element, [&](const Vec<1>& x) { return x[0] < a; }, 0, 0.0, m.points);
-    add_regular_points<1>(m.grid, {0}, {c.elements}, c.points_per_element, [&](const Vec<1>& x) { return x[0] > a; }, 1, 0.0, m.points);
+    add_regular_points<1>(
+        m.grid, {0}, {c.elements}, c.points_per_element, [&](const Vec<1>& x) { return x[0] < a; }, 0, 0.0, m.points);
+    add_regular_points<1>(
+        m.grid, {0}, {c.elements}, c.points_per_element, [&](const Vec<1>& x) { return x[0] > a; }, 1, 0.0, m.points);
   }
   m.constraints = {{0, 0, 0.0}};
   for (int n = c.elements; n <= c.elements + extra; ++n) m.constraints.push_back({n, 0, c.end_displacement});

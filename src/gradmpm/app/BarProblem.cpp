@@ -1,6 +1,5 @@
 #include "gradmpm/app/BarProblem.hpp"
 
-
 #include "gradmpm/basis/LinearBasis.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
@@ -63,9 +62,8 @@ std::vector<double> point_compliant_strains(const BarResult& r, const std::vecto
 /// minimises integral (u' - eps)^2, i.e. L u = sum_p dN eps_p V_p. In 1D this is the
 /// exact integral u(x) = integral_0^x eps at the nodes (for e-RA and s-RA, which
 /// smooth strain or stress and have no displacement of their own).
-Vector integrate_strain(const Assembler<1>& assembler, const SparseMatrix& pattern,
-                        const std::vector<double>& eps, int left_dof,
-                        const LinearSolverSettings& backend) {
+Vector integrate_strain(const Assembler<1>& assembler, const SparseMatrix& pattern, const std::vector<double>& eps,
+                        int left_dof, const LinearSolverSettings& backend) {
   SparseMatrix L = pattern;
   assembler.add_laplacian(L);
   DirichletElimination bc;
@@ -86,8 +84,8 @@ BarResult solve_bar(const BarConfig& c) {
   const Grid<1> grid(Vec<1>(0.0), Vec<1>(c.length / c.elements), {c.elements});
   const double x_interface = c.split * c.length;
   add_gauss_points<1>(
-      grid, {0}, {c.elements}, c.points_per_element,
-      [&](const Vec<1>& x) { return x[0] < x_interface ? 0 : 1; }, r.points);
+      grid, {0}, {c.elements}, c.points_per_element, [&](const Vec<1>& x) { return x[0] < x_interface ? 0 : 1; },
+      r.points);
   r.materials = {LinearElastic(c.young_left, 0.0, 0.0), LinearElastic(c.young_right, 0.0, 0.0)};
   const double moduli[2] = {axial_modulus(r.materials[0]), axial_modulus(r.materials[1])};
   for (int m : r.points.material) r.point_young.push_back(moduli[m]);
@@ -165,10 +163,8 @@ BarResult solve_bar(const BarConfig& c) {
   for (int n = 0; n < nn; ++n) r.x.push_back(grid.node_position(n)[0]);
   r.strain_classical = points_to_nodes(st, r.points, r.point_strain_classical, nn);
   r.stress_classical = points_to_nodes(st, r.points, r.point_stress_classical, nn);
-  r.strain_gradient = strain_nodes.size() ? strain_nodes
-                                          : points_to_nodes(st, r.points, r.point_strain_gradient, nn);
-  r.stress_gradient = stress_nodes.size() ? stress_nodes
-                                          : points_to_nodes(st, r.points, r.point_stress_gradient, nn);
+  r.strain_gradient = strain_nodes.size() ? strain_nodes : points_to_nodes(st, r.points, r.point_strain_gradient, nn);
+  r.stress_gradient = stress_nodes.size() ? stress_nodes : points_to_nodes(st, r.points, r.point_stress_gradient, nn);
 
   const double h = grid.cell_size()[0];
   for (int e = 0; e < c.elements; ++e) {

@@ -32,7 +32,8 @@ std::string column_check(const Model<dim>& m, const std::filesystem::path& dir, 
   mat->update(Eigen::Matrix3d::Identity(), state_n.data(), state.data(), r);
   Mat9 A;
   mat->tangent(r, dim, A);
-  const analytic::Column col{top - base, mat->density(), -m.gravity[dim - 1], A(3 * (dim - 1) + dim - 1, 3 * (dim - 1) + dim - 1)};
+  const analytic::Column col{top - base, mat->density(), -m.gravity[dim - 1],
+                             A(3 * (dim - 1) + dim - 1, 3 * (dim - 1) + dim - 1)};
   std::vector<double> Y, s, se, y, ye;
   double err_s = 0, err_y = 0;
   for (int p = 0; p < P.size(); ++p) {
@@ -55,11 +56,13 @@ std::string column_check(const Model<dim>& m, const std::filesystem::path& dir, 
   if (plot) {
     const auto png = out.stage("column.png");
     run_python_script(embedded::plot_column_py,
-                      {csv.string(), png.string(), fmt::format("{}D column, {} basis, {} points", dim, to_string(m.basis), P.size())});
+                      {csv.string(), png.string(),
+                       fmt::format("{}D column, {} basis, {} points", dim, to_string(m.basis), P.size())});
   }
   out.commit();
-  return fmt::format("column vs closed form: max |stress error| / (rho0 g H0) = {:.3e}, max |position error| / H0 = {:.3e}",
-                     err_s / (col.density * col.gravity * col.height), err_y / col.height);
+  return fmt::format(
+      "column vs closed form: max |stress error| / (rho0 g H0) = {:.3e}, max |position error| / H0 = {:.3e}",
+      err_s / (col.density * col.gravity * col.height), err_y / col.height);
 }
 
 template std::string column_check<1>(const Model<1>&, const std::filesystem::path&, bool);

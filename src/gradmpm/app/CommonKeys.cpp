@@ -11,7 +11,8 @@ namespace gradmpm {
 void declare_linear_solver_section(CaseFile& cf) {
   for (const char* old : {"solver.linear", "nonlinear_solver.linear_solver"})
     if (cf.has(old))
-      throw InputError(fmt::format("{}: {}: this key is now [linear_solver] type (docs/case-files.md)", cf.name(), old));
+      throw InputError(
+          fmt::format("{}: {}: this key is now [linear_solver] type (docs/case-files.md)", cf.name(), old));
   cf.declare(linear_solver_section());
 }
 

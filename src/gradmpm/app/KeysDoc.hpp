@@ -1,7 +1,8 @@
 #pragma once
 // The key tables of docs/case-files.md, rendered from the declarations (app/CaseKeys.cpp,
 // each material's keys, each linear solver's doc). `gradmpm keys KIND` prints them;
-// `gradmpm keys --update docs/case-files.md` (scripts/update-docs) writes them between the markers <!-- keys KIND --> and
+// `gradmpm keys --update docs/case-files.md` (scripts/update-docs) writes them between the markers <!-- keys KIND -->
+// and
 // <!-- /keys --> of docs/case-files.md; tests/test_keys_doc.cpp fails when the
 // checked-in file differs.
 #include <filesystem>

@@ -66,8 +66,10 @@ Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
 template <int dim>
 MpmCase<dim> read_mpm_case(CaseFile& cf) {
   for (const auto& s : mpm_sections())
-    if (s.name == "linear_solver") declare_linear_solver_section(cf);
-    else cf.declare(s);
+    if (s.name == "linear_solver")
+      declare_linear_solver_section(cf);
+    else
+      cf.declare(s);
   cf.reject_unknown();
   const GradientSettings gradient_settings = read_gradient_settings(cf);
 
@@ -94,7 +96,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
 
   // --- materials
   const auto names = cf.subsections("materials");
-  if (names.empty()) throw InputError(fmt::format("{}: missing section [materials.NAME] (at least one material)", cf.name()));
+  if (names.empty())
+    throw InputError(fmt::format("{}: missing section [materials.NAME] (at least one material)", cf.name()));
   for (const auto& name : names) {  // each law reads its own keys
     const std::string k = "materials." + name;
     const std::string model = read_string(cf, k, mpm_section("materials").key("model"));
@@ -108,14 +111,16 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
 
   // --- bodies: material points at sub-cell centres inside each body
   const std::size_t nb = cf.array_size("bodies");
-  if (nb == 0) throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
+  if (nb == 0)
+    throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
   for (std::size_t b = 0; b < nb; ++b) {
     const std::string k = fmt::format("bodies[{}]", b);
     const std::string mat = cf.string(k + ".material");
     int mat_id = -1;
     for (std::size_t i = 0; i < names.size(); ++i)
       if (names[i] == mat) mat_id = static_cast<int>(i);
-    cf.require(mat_id >= 0, k + ".material", fmt::format("the name of a [materials.NAME] section (one of: {})", fmt::join(names, ", ")));
+    cf.require(mat_id >= 0, k + ".material",
+               fmt::format("the name of a [materials.NAME] section (one of: {})", fmt::join(names, ", ")));
     const long long ppc = read_integer(cf, k, mpm_section("bodies").key("points_per_cell"));
     Box<dim> box;
     std::function<bool(const Vec<dim>&)> inside;
@@ -137,8 +142,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
       inside = [box](const Vec<dim>& x) { return box.contains(x, 0.0); };
     }
     for (int d = 0; d < dim; ++d)
-      cf.require(box.lo[d] >= origin[d] - 1e-12 * h[d] && box.hi[d] <= grid_hi[d] + 1e-12 * h[d], k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
-                 "a body inside the grid");
+      cf.require(box.lo[d] >= origin[d] - 1e-12 * h[d] && box.hi[d] <= grid_hi[d] + 1e-12 * h[d],
+                 k + (cf.has(k + ".polygon") ? ".polygon" : ".max"), "a body inside the grid");
     typename Grid<dim>::Index first, last;
     for (int d = 0; d < dim; ++d) {
       first[d] = std::max(0, static_cast<int>(std::floor((box.lo[d] - origin[d]) / h[d])));
@@ -146,7 +151,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     }
     const int added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
                                               m.materials[mat_id]->density(), m.points);
-    cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"), "a body holding at least one material point (it is smaller than a sub-cell)");
+    cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
+               "a body holding at least one material point (it is smaller than a sub-cell)");
   }
 
   // --- loads
@@ -162,12 +168,17 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
       int axis = -1;
       for (int d = 0; d < dim; ++d)
         if (face.size() == 2 && face[0] == kAxes[d][0] && (face[1] == '-' || face[1] == '+')) axis = d;
-      cf.require(axis >= 0, k + ".face", dim == 1 ? "\"x-\" or \"x+\"" : (dim == 2 ? "one of \"x-\", \"x+\", \"y-\", \"y+\"" : "one of \"x-\", \"x+\", \"y-\", \"y+\", \"z-\", \"z+\""));
+      cf.require(axis >= 0, k + ".face",
+                 dim == 1 ? "\"x-\" or \"x+\""
+                          : (dim == 2 ? "one of \"x-\", \"x+\", \"y-\", \"y+\""
+                                      : "one of \"x-\", \"x+\", \"y-\", \"y+\", \"z-\", \"z+\""));
       cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), k + ".face", "either a face or min/max, not both");
       sel.lo = origin;
       sel.hi = grid_hi;
-      if (face[1] == '-') sel.hi[axis] = origin[axis];
-      else sel.lo[axis] = grid_hi[axis];
+      if (face[1] == '-')
+        sel.hi[axis] = origin[axis];
+      else
+        sel.lo[axis] = grid_hi[axis];
     } else {
       sel = read_box<dim>(cf, k);
     }
@@ -177,7 +188,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
       int axis = -1;
       for (int d = 0; d < dim; ++d)
         if (f == kAxes[d]) axis = d;
-      cf.require(axis >= 0, k + ".fix", dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
+      cf.require(axis >= 0, k + ".fix",
+                 dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
       comps.push_back(axis);
     }
     cf.require(!comps.empty(), k + ".fix", "at least one component to hold");
@@ -223,13 +235,15 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   if (cf.has("output.track")) {
     output.track = cf.integer_list("output.track");
     for (long long id : output.track)
-      cf.require(id >= 0 && id < m.points.size(), "output.track", fmt::format("point ids from 0 to {}", m.points.size() - 1));
+      cf.require(id >= 0 && id < m.points.size(), "output.track",
+                 fmt::format("point ids from 0 to {}", m.points.size() - 1));
   }
   output.check = read_string(cf, out.name, out.key("check"));
   output.plot = read_boolean(cf, out.name, out.key("plot"));
   if (output.check == "column") {
-    cf.require(m.materials.size() == 1 && m.materials[0]->model() == "hencky" && m.materials[0]->elasticity().poisson == 0.0,
-               "output.check", "\"column\" only for one Hencky material with poisson = 0");
+    cf.require(
+        m.materials.size() == 1 && m.materials[0]->model() == "hencky" && m.materials[0]->elasticity().poisson == 0.0,
+        "output.check", "\"column\" only for one Hencky material with poisson = 0");
     cf.require(nb == 1 && !cf.has("bodies[0].polygon"), "output.check", "\"column\" only for one box-shaped body");
     bool vertical = m.gravity[dim - 1] < 0.0;
     for (int d = 0; d + 1 < dim; ++d) vertical = vertical && m.gravity[d] == 0.0;
@@ -238,7 +252,6 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   m.initialise_state();
   return MpmCase<dim>{std::move(m), newton, gradient, output};
 }
-
 
 template MpmCase<1> read_mpm_case<1>(CaseFile&);
 template MpmCase<2> read_mpm_case<2>(CaseFile&);

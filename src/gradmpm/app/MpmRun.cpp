@@ -29,8 +29,8 @@ void write_now(const fs::path& dir, const std::string& name, const std::string& 
 /// The point columns of points_final.csv and tracked_points.csv (state variables appended).
 const std::vector<std::string> kFinalColumns = {"id", "original_position", "position", "stress", "volume", "mass"};
 const std::vector<std::string> kTrackedColumns = {"id", "position", "stress"};
-const std::vector<std::string> kGradientColumns = {"id",           "position",      "displacement", "gradient_displacement",
-                                                   "elastic_strain", "gradient_strain", "gradient_stress"};
+const std::vector<std::string> kGradientColumns = {
+    "id", "position", "displacement", "gradient_displacement", "elastic_strain", "gradient_strain", "gradient_stress"};
 
 std::string join(const std::vector<std::string>& v) {
   std::string s;
@@ -44,7 +44,9 @@ void print_step(const StepInfo& info) {
   for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
   fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}  residuals{}{}  ({:.2f} s)\n", info.step,
              info.load_factor, static_cast<int>(info.residuals.size()) - 1, info.cuts, res,
-             info.indefinite_solves ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves) : "",
+             info.indefinite_solves
+                 ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves)
+                 : "",
              info.seconds);
   std::fflush(stdout);
 }
@@ -104,14 +106,15 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
     write_now(dir, "points_final.csv", table.csv(table.with_state(kFinalColumns)).str());
     if (gradient_step.fields()) write_now(dir, "points_gradient.csv", table.csv(kGradientColumns).str());
     if (gradient_step.enabled() && !quiet)
-      fmt::print("  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",
-                 to_string(c.gradient.variant), c.gradient.length_scale,
-                 c.gradient.apply == GradientApply::End ? "end" : "each_step",
-                 c.gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step.seconds(),
-                 100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
+      fmt::print(
+          "  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",
+          to_string(c.gradient.variant), c.gradient.length_scale,
+          c.gradient.apply == GradientApply::End ? "end" : "each_step",
+          c.gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step.seconds(),
+          100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
     if (!quiet)
-      fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps, summary.total_iterations,
-                 summary.cuts, seconds_since(t0));
+      fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps,
+                 summary.total_iterations, summary.cuts, seconds_since(t0));
     if (output.check == "column") {
       const std::string line = column_check(m, dir, output.plot);
       if (!quiet) fmt::print("  {}\n", line);
@@ -127,9 +130,12 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
 
 void run_mpm_case(CaseFile& cf, const fs::path& out_dir, bool quiet) {
   switch (mpm_case_dimension(cf)) {
-    case 1: return run<1>(cf, out_dir, quiet);
-    case 2: return run<2>(cf, out_dir, quiet);
-    default: return run<3>(cf, out_dir, quiet);
+    case 1:
+      return run<1>(cf, out_dir, quiet);
+    case 2:
+      return run<2>(cf, out_dir, quiet);
+    default:
+      return run<3>(cf, out_dir, quiet);
   }
 }
 

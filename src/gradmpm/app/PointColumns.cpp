@@ -35,11 +35,15 @@ template <int dim>
 PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* g) : model_(m) {
   const auto& P = m.points;
   add({"id", Kind::Scalar, {"id"}, true, [](int p, double* o) { *o = p; }});
-  add({"original_position", Kind::Vector, {"X", "Y", "Z"}, false, [&P](int p, double* o) { put<dim>(P.original_position[p], o); }});
-  add({"position", Kind::Vector, suffixed("", "", false), false, [&P](int p, double* o) { put<dim>(P.position[p], o); }});
+  add({"original_position", Kind::Vector, {"X", "Y", "Z"}, false, [&P](int p, double* o) {
+         put<dim>(P.original_position[p], o);
+       }});
+  add({"position", Kind::Vector, suffixed("", "", false), false,
+       [&P](int p, double* o) { put<dim>(P.position[p], o); }});
   add({"displacement", Kind::Vector, suffixed("u", "", false), false,
        [&P](int p, double* o) { put<dim>(Vec<dim>(P.position[p] - P.original_position[p]), o); }});
-  add({"stress", Kind::SymmetricTensor, suffixed("s", "", true), false, [&P](int p, double* o) { put(P.stress[p], o); }});
+  add({"stress", Kind::SymmetricTensor, suffixed("s", "", true), false,
+       [&P](int p, double* o) { put(P.stress[p], o); }});
   add({"elastic_strain", Kind::SymmetricTensor, suffixed("e", "", true), false,
        [&m](int p, double* o) { put(m.elastic_strain(p), o); }});
   add({"volume", Kind::Scalar, {"volume"}, false, [&P](int p, double* o) { *o = P.volume[p]; }});
@@ -48,8 +52,10 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
   if (g) {
     add({"gradient_displacement", Kind::Vector, suffixed("u", "_g", false), false,
          [g](int p, double* o) { put<dim>(g->displacement[p], o); }});
-    add({"gradient_strain", Kind::SymmetricTensor, suffixed("e", "_g", true), false, [g](int p, double* o) { put(g->strain[p], o); }});
-    add({"gradient_stress", Kind::SymmetricTensor, suffixed("s", "_g", true), false, [g](int p, double* o) { put(g->stress[p], o); }});
+    add({"gradient_strain", Kind::SymmetricTensor, suffixed("e", "_g", true), false,
+         [g](int p, double* o) { put(g->strain[p], o); }});
+    add({"gradient_stress", Kind::SymmetricTensor, suffixed("s", "_g", true), false,
+         [g](int p, double* o) { put(g->stress[p], o); }});
   }
   // State variables of every material, by name (first declaration wins the order). A
   // point whose material lacks a variable writes zero.
@@ -57,7 +63,7 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
     for (const StateVariable& v : m.materials[mi]->state_variables()) {
       if (std::find(state_.begin(), state_.end(), v.name) != state_.end()) continue;
       state_.push_back(v.name);
-      if (has(v.name)) continue;  // a fixed column (elastic_strain) already reports it
+      if (has(v.name)) continue;                         // a fixed column (elastic_strain) already reports it
       std::vector<int> offsets(m.materials.size(), -1);  // where each material keeps it
       for (std::size_t mj = 0; mj < m.materials.size(); ++mj) {
         int off = 0;
@@ -67,16 +73,19 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
         }
       }
       const bool tensor = v.kind == StateVariable::Kind::SymmetricTensor;
-      add({v.name, tensor ? Kind::SymmetricTensor : Kind::Scalar, tensor ? suffixed(v.name + "_", "", true) : std::vector<std::string>{v.name},
-           false, [&m, offsets, tensor](int p, double* o) {
+      add({v.name, tensor ? Kind::SymmetricTensor : Kind::Scalar,
+           tensor ? suffixed(v.name + "_", "", true) : std::vector<std::string>{v.name}, false,
+           [&m, offsets, tensor](int p, double* o) {
              const int off = offsets[m.points.material[p]];
              if (!m.state_initialised() || off < 0) {
                std::fill(o, o + (tensor ? 9 : 1), 0.0);
                return;
              }
              const double* s = m.points.state_of(p) + off;
-             if (tensor) put(unpack_symmetric(s), o);
-             else *o = *s;
+             if (tensor)
+               put(unpack_symmetric(s), o);
+             else
+               *o = *s;
            }});
     }
   }
@@ -158,8 +167,8 @@ std::vector<std::string> PointColumns<dim>::csv_header(const std::vector<std::st
 }
 
 template <int dim>
-void PointColumns<dim>::append_rows(std::string& out, const std::vector<double>& lead, const std::vector<long long>& points,
-                                    const std::vector<std::string>& names) const {
+void PointColumns<dim>::append_rows(std::string& out, const std::vector<double>& lead,
+                                    const std::vector<long long>& points, const std::vector<std::string>& names) const {
   double v[9], vals[9];
   for (long long p : points) {
     std::string row;
@@ -168,7 +177,8 @@ void PointColumns<dim>::append_rows(std::string& out, const std::vector<double>&
       const PointColumn& c = column(name);
       c.value(static_cast<int>(p), v);
       csv_values(c, v, vals);
-      for (std::size_t k = 0; k < c.csv.size(); ++k) fmt::format_to(std::back_inserter(row), "{}{}", row.empty() ? "" : ",", vals[k]);
+      for (std::size_t k = 0; k < c.csv.size(); ++k)
+        fmt::format_to(std::back_inserter(row), "{}{}", row.empty() ? "" : ",", vals[k]);
     }
     out += row + '\n';
   }

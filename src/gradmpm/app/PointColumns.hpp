@@ -17,7 +17,7 @@ namespace gradmpm {
 
 struct PointColumn {
   enum class Kind { Scalar, Vector, SymmetricTensor };
-  std::string name;              ///< VTU array name
+  std::string name;  ///< VTU array name
   Kind kind = Kind::Scalar;
   std::vector<std::string> csv;  ///< CSV column names (1, 3 or 6)
   bool integer = false;          ///< VTU Int64

@@ -24,12 +24,13 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
 
   if (quiet) return;
   if (as_mpm)
-    fmt::print("gradmpm: bi-material bar as MPM, {} elements, {} points, {} load steps, basis {}, variant {} with l = {:g}\n",
-               config.elements, r.points.size(), mpm.load_steps, to_string(mpm.basis), to_string(config.variant),
-               config.length_scale);
+    fmt::print(
+        "gradmpm: bi-material bar as MPM, {} elements, {} points, {} load steps, basis {}, variant {} with l = {:g}\n",
+        config.elements, r.points.size(), mpm.load_steps, to_string(mpm.basis), to_string(config.variant),
+        config.length_scale);
   else
-    fmt::print("gradmpm: bi-material bar, {} elements, {} points, {} dofs, variant {} with l = {:g}\n",
-               config.elements, r.points.size(), r.dofs, to_string(config.variant), config.length_scale);
+    fmt::print("gradmpm: bi-material bar, {} elements, {} points, {} dofs, variant {} with l = {:g}\n", config.elements,
+               r.points.size(), r.dofs, to_string(config.variant), config.length_scale);
   fmt::print("  classical stress at x = 0: {:.10g}; gradient strain vs closed form: max relative error {:.3e}\n",
              r.stress_classical[0], err);
   if (as_mpm)
@@ -48,7 +49,8 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
       options.out.empty() ? std::filesystem::path("out") / case_file.stem() : options.out;
   const bool bar = cf.has_section("bar"), mpm = cf.has_section("grid");
   if (bar && mpm)
-    throw InputError(fmt::format("{}: both [bar] and [grid]: a case is either the 1D bar or an MPM analysis", cf.name()));
+    throw InputError(
+        fmt::format("{}: both [bar] and [grid]: a case is either the 1D bar or an MPM analysis", cf.name()));
   if (bar) return run_bar(cf, out_dir, options.quiet);
   if (mpm) return run_mpm_case(cf, out_dir, options.quiet);
   throw InputError(

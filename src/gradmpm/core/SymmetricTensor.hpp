@@ -23,7 +23,9 @@ inline void pack_symmetric(const Eigen::Matrix3d& t, double* out) {
 
 inline Eigen::Matrix3d unpack_symmetric(const double* in) {
   Eigen::Matrix3d t;
-  for (int c = 0; c < 6; ++c) t(kSymmetricComponents[c].i, kSymmetricComponents[c].j) = t(kSymmetricComponents[c].j, kSymmetricComponents[c].i) = in[c];
+  for (int c = 0; c < 6; ++c)
+    t(kSymmetricComponents[c].i, kSymmetricComponents[c].j) = t(kSymmetricComponents[c].j, kSymmetricComponents[c].i) =
+        in[c];
   return t;
 }
 

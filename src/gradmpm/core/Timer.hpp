@@ -7,9 +7,7 @@ namespace gradmpm {
 using Clock = std::chrono::steady_clock;
 
 /// Seconds elapsed since t0.
-inline double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// Adds the lifetime of the scope to a running total of seconds.
 class ScopedSeconds {

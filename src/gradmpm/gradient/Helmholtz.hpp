@@ -5,10 +5,10 @@
 // whose weak form on the grid is
 //     (M + l^2 L) g = f,   M_ij = sum_p N_i N_j V_p,  L_ij = sum_p grad N_i . grad N_j V_p,
 // with f_i = sum_p N_i c_p V_p for a field held at the points (e-RA, s-RA), or with
-// c_p interpolated from the nodes (f = M c) for a nodal field (u-RA). Both operators are integrated by the material points,
-// the same quadrature as the stiffness. The matrix is scalar (one unknown per node),
-// factored once and reused for every component and every right-hand side.
-// Without Dirichlet dofs the boundary condition is the natural one, grad g . n = 0.
+// c_p interpolated from the nodes (f = M c) for a nodal field (u-RA). Both operators are integrated by the material
+// points, the same quadrature as the stiffness. The matrix is scalar (one unknown per node), factored once and reused
+// for every component and every right-hand side. Without Dirichlet dofs the boundary condition is the natural one, grad
+// g . n = 0.
 #include <vector>
 
 #include "gradmpm/solver/Assembler.hpp"
@@ -22,9 +22,8 @@ class HelmholtzSmoother {
  public:
   /// `scalar_pattern`: build_pattern() for one component per node. `dirichlet_dofs`:
   /// equations whose value is prescribed in every smoothing (u-RA); empty for natural BCs.
-  HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern,
-                    double length_scale, const std::vector<int>& dirichlet_dofs = {},
-                    const LinearSolverSettings& solver = {})
+  HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
+                    const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {})
       : assembler_(assembler), solver_(make_linear_solver(solver)) {
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);

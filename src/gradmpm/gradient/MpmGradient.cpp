@@ -38,11 +38,13 @@ class SmoothingContext {
     for (const auto& c : kSymmetricComponents)
       if (c.i == c.j || (c.i < dim && c.j < dim)) comps.push_back({c.i, c.j});
     const int nc = static_cast<int>(comps.size());
-    if (!natural_) natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_);
-    const Eigen::MatrixXd G =
-        natural_->smooth_loads(assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); }));
+    if (!natural_)
+      natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_);
+    const Eigen::MatrixXd G = natural_->smooth_loads(
+        assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); }));
     std::vector<Mat3> out(t.size(), Mat3::Zero());
-    assembler_.interpolate_columns(G, [&](int p, int j, double v) { out[p](comps[j][0], comps[j][1]) = out[p](comps[j][1], comps[j][0]) = v; });
+    assembler_.interpolate_columns(
+        G, [&](int p, int j, double v) { out[p](comps[j][0], comps[j][1]) = out[p](comps[j][1], comps[j][0]) = v; });
     return out;
   }
 
@@ -59,7 +61,8 @@ class SmoothingContext {
     dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
     std::vector<double> values;
     if (!dofs.empty()) {
-      if (!projector_) projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_);
+      if (!projector_)
+        projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_);
       const Vector projected = projector_->smooth_point_field(c);
       for (int d : dofs) values.push_back(projected[d]);
     }
@@ -188,11 +191,15 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
 
 template <int dim>
 GradientTracker<dim>::GradientTracker(const Model<dim>& m, const GradientSettings& s)
-    : settings_(s), prev_position_(m.points.position), prev_strain_(m.elastic_strains()), prev_stress_(m.points.stress) {
+    : settings_(s),
+      prev_position_(m.points.position),
+      prev_strain_(m.elastic_strains()),
+      prev_stress_(m.points.stress) {
   fields_.resize(m.points.size());
   fields_.strain = prev_strain_;
   fields_.stress = m.points.stress;
-  for (int p = 0; p < m.points.size(); ++p) fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
+  for (int p = 0; p < m.points.size(); ++p)
+    fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
 }
 
 template <int dim>

@@ -23,10 +23,14 @@ inline std::optional<GradientVariant> parse_gradient_variant(std::string_view s)
 
 inline std::string_view to_string(GradientVariant v) {
   switch (v) {
-    case GradientVariant::U_RA: return "u-RA";
-    case GradientVariant::E_RA: return "e-RA";
-    case GradientVariant::S_RA: return "s-RA";
-    default: return "none";
+    case GradientVariant::U_RA:
+      return "u-RA";
+    case GradientVariant::E_RA:
+      return "e-RA";
+    case GradientVariant::S_RA:
+      return "s-RA";
+    default:
+      return "none";
   }
 }
 

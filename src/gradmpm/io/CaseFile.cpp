@@ -140,22 +140,24 @@ void CaseFile::declare_table_of_sections(const std::string& name, const std::vec
   if (!n->is_table()) throw InputError(fmt::format("{}: {}: expected sections [{}.NAME]", name_, name, name));
   for (const auto& [k, v] : *n->as_table())
     if (!v.is_table())
-      throw InputError(fmt::format("{}: {}.{}: expected a section [{}.{}], got a value", name_, name, k.str(), name,
-                                   k.str()));
+      throw InputError(
+          fmt::format("{}: {}.{}: expected a section [{}.{}], got a value", name_, name, k.str(), name, k.str()));
 }
 
 void CaseFile::declare(const SectionSpec& spec) {
   switch (spec.kind) {
-    case SectionKind::Section: return declare_section(spec.name, spec.key_names(), spec.required);
-    case SectionKind::Array: return declare_array(spec.name, spec.key_names());
-    case SectionKind::TableOfSections: return declare_table_of_sections(spec.name, spec.key_names());
+    case SectionKind::Section:
+      return declare_section(spec.name, spec.key_names(), spec.required);
+    case SectionKind::Array:
+      return declare_array(spec.name, spec.key_names());
+    case SectionKind::TableOfSections:
+      return declare_table_of_sections(spec.name, spec.key_names());
   }
 }
 
 void CaseFile::check_section_keys(const std::string& section, const std::vector<std::string>& keys,
                                   const std::string& whose) const {
-  if (const toml::node* n = find(section); n && n->is_table())
-    check_keys(*n->as_table(), section, keys, whose);
+  if (const toml::node* n = find(section); n && n->is_table()) check_keys(*n->as_table(), section, keys, whose);
 }
 
 std::size_t CaseFile::array_size(const std::string& name) const {
@@ -191,7 +193,8 @@ void CaseFile::reject_unknown() const {
     if (it == declared_.end()) {
       if (node.is_table() || node.is_array_of_tables())
         throw InputError(fmt::format("{}: unknown section [{}] (expected {})", name_, section, join(sections)));
-      throw InputError(fmt::format("{}: {}: unknown top-level key (expected the sections {})", name_, section, join(sections)));
+      throw InputError(
+          fmt::format("{}: {}: unknown top-level key (expected the sections {})", name_, section, join(sections)));
     }
     const Declared& d = it->second;
     if (d.kind == Kind::Section) {
@@ -213,9 +216,7 @@ std::string CaseFile::where(const std::string& key) const {
   return fmt::format("{}: {}", name_, key);
 }
 
-const toml::node* CaseFile::find(const std::string& key) const {
-  return table_.at_path(key).node();
-}
+const toml::node* CaseFile::find(const std::string& key) const { return table_.at_path(key).node(); }
 
 void CaseFile::fail(const std::string& key, std::string_view expected) const {
   const toml::node* n = find(key);
@@ -236,9 +237,7 @@ double CaseFile::number(const std::string& key) const {
   if (!std::isfinite(*v)) fail(key, "a finite number");
   return *v;
 }
-double CaseFile::number_or(const std::string& key, double fallback) const {
-  return find(key) ? number(key) : fallback;
-}
+double CaseFile::number_or(const std::string& key, double fallback) const { return find(key) ? number(key) : fallback; }
 
 long long CaseFile::integer(const std::string& key) const {
   const toml::node& n = need(key, "an integer");

@@ -24,18 +24,15 @@ class CaseFile {
  public:
   /// Reads `file` and applies overrides of the form "section.key=value" (the value is
   /// parsed as TOML, or taken as a plain string when it is not valid TOML).
-  static CaseFile load(const std::filesystem::path& file,
-                       const std::vector<std::string>& overrides = {});
+  static CaseFile load(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
   /// Same, from text in memory (`name` stands in for the file name in messages).
-  static CaseFile parse(std::string_view text, std::string name,
-                        const std::vector<std::string>& overrides = {});
+  static CaseFile parse(std::string_view text, std::string name, const std::vector<std::string>& overrides = {});
 
   const std::string& name() const { return name_; }
   bool has_section(std::string_view section) const;
 
   /// Declares the keys a section may hold; `required` sections must be present.
-  void declare_section(const std::string& section, const std::vector<std::string>& keys,
-                       bool required);
+  void declare_section(const std::string& section, const std::vector<std::string>& keys, bool required);
   /// Declares an array of tables ([[name]]) and the keys each entry may hold.
   void declare_array(const std::string& name, const std::vector<std::string>& keys);
   /// Declares a table of tables ([name.X] for any X) and the keys each may hold.

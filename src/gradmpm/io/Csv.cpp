@@ -14,7 +14,8 @@ std::string CsvTable::str() const {
   for (const auto& col : columns_)
     if (col.size() != rows) throw std::logic_error("CsvTable: columns of different lengths");
   for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < columns_.size(); ++c) fmt::format_to(std::back_inserter(s), "{}{}", c ? "," : "", columns_[c][r]);
+    for (std::size_t c = 0; c < columns_.size(); ++c)
+      fmt::format_to(std::back_inserter(s), "{}{}", c ? "," : "", columns_[c][r]);
     s += '\n';
   }
   return s;

@@ -14,7 +14,9 @@ class CsvTable {
     names_.push_back(std::move(name));
     columns_.push_back(std::move(values));
   }
-  void add(std::string name, const Vector& v) { add(std::move(name), std::vector<double>(v.data(), v.data() + v.size())); }
+  void add(std::string name, const Vector& v) {
+    add(std::move(name), std::vector<double>(v.data(), v.data() + v.size()));
+  }
   /// The whole table as text; throws std::logic_error if the columns differ in length.
   std::string str() const;
 

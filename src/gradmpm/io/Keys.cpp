@@ -11,7 +11,8 @@ namespace gradmpm {
 
 namespace {
 std::string number_text(double v) {
-  if (v == static_cast<double>(static_cast<long long>(v)) && std::abs(v) < 1e15) return fmt::format("{}", static_cast<long long>(v));
+  if (v == static_cast<double>(static_cast<long long>(v)) && std::abs(v) < 1e15)
+    return fmt::format("{}", static_cast<long long>(v));
   return fmt::format("{}", v);
 }
 
@@ -32,11 +33,16 @@ std::string cell(std::string s) {
 
 std::string KeySpec::type_name() const {
   switch (type) {
-    case KeyType::Number: return "number";
-    case KeyType::Integer: return "integer";
-    case KeyType::String: return "string";
-    case KeyType::Boolean: return "boolean";
-    default: return type_text;
+    case KeyType::Number:
+      return "number";
+    case KeyType::Integer:
+      return "integer";
+    case KeyType::String:
+      return "string";
+    case KeyType::Boolean:
+      return "boolean";
+    default:
+      return type_text;
   }
 }
 
@@ -46,9 +52,12 @@ std::string KeySpec::default_name() const {
   return std::visit(
       [](const auto& v) -> std::string {
         using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, std::string>) return fmt::format("`\"{}\"`", v);
-        else if constexpr (std::is_same_v<T, bool>) return v ? "`true`" : "`false`";
-        else return fmt::format("`{}`", v);
+        if constexpr (std::is_same_v<T, std::string>)
+          return fmt::format("`\"{}\"`", v);
+        else if constexpr (std::is_same_v<T, bool>)
+          return v ? "`true`" : "`false`";
+        else
+          return fmt::format("`{}`", v);
       },
       *default_value);
 }
@@ -59,7 +68,8 @@ std::string KeySpec::expected() const {
   const char* what = type == KeyType::Integer ? "an integer" : "a number";
   if (min && max) {
     if (type == KeyType::Integer) return fmt::format("{} from {} to {}", what, number_text(*min), number_text(*max));
-    return fmt::format("{} in {}{}, {}{}", what, min_open ? "(" : "[", number_text(*min), number_text(*max), max_open ? ")" : "]");
+    return fmt::format("{} in {}{}, {}{}", what, min_open ? "(" : "[", number_text(*min), number_text(*max),
+                       max_open ? ")" : "]");
   }
   if (min) return fmt::format("{} {} {}", what, min_open ? ">" : ">=", number_text(*min));
   if (max) return fmt::format("{} {} {}", what, max_open ? "<" : "<=", number_text(*max));
@@ -80,9 +90,12 @@ const KeySpec& SectionSpec::key(const std::string& key_name) const {
 
 std::string SectionSpec::heading() const {
   switch (kind) {
-    case SectionKind::Array: return "[[" + name + "]]";
-    case SectionKind::TableOfSections: return "[" + name + ".NAME]";
-    default: return "[" + name + "]";
+    case SectionKind::Array:
+      return "[[" + name + "]]";
+    case SectionKind::TableOfSections:
+      return "[" + name + ".NAME]";
+    default:
+      return "[" + name + "]";
   }
 }
 
@@ -130,8 +143,10 @@ bool read_boolean(const CaseFile& cf, const std::string& prefix, const KeySpec& 
 std::string markdown_table(const SectionSpec& section) {
   std::string t = "| key | type | default | allowed | meaning |\n|---|---|---|---|---|\n";
   for (const auto& k : section.keys) {
-    const std::string allowed = k.type == KeyType::Boolean || (k.type == KeyType::Other && k.allowed.empty()) ? "" : k.expected();
-    t += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, cell(k.type_name()), cell(k.default_name()), cell(allowed), cell(k.doc));
+    const std::string allowed =
+        k.type == KeyType::Boolean || (k.type == KeyType::Other && k.allowed.empty()) ? "" : k.expected();
+    t += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, cell(k.type_name()), cell(k.default_name()),
+                     cell(allowed), cell(k.doc));
   }
   return t;
 }

@@ -15,7 +15,7 @@ class CaseFile;
 enum class KeyType { Number, Integer, String, Boolean, Other };
 
 struct KeySpec {
-  std::string name;       ///< within its section, e.g. "tolerance"
+  std::string name;  ///< within its section, e.g. "tolerance"
   KeyType type = KeyType::Other;
   std::string type_text;  ///< for the docs when the type is not a plain one, e.g. "[dim numbers]"
   /// The default; none means required (or, with default_text, optional without a value).

@@ -62,7 +62,7 @@ void run_python_script(std::string_view script, const std::vector<std::string>& 
     const std::size_t last = msg.rfind('\n');
     if (last != std::string::npos) msg = msg.substr(last + 1);
     throw std::runtime_error(fmt::format("plotting with {} failed (exit status {}): {}", python_interpreter(),
-                                  WIFEXITED(status) ? WEXITSTATUS(status) : status, msg));
+                                         WIFEXITED(status) ? WEXITSTATUS(status) : status, msg));
   }
 }
 

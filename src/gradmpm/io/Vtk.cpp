@@ -35,7 +35,8 @@ void point_data(std::string& s, const std::vector<VtkField>& fields, std::size_t
   s += "<PointData>\n";
   for (const auto& f : fields) {
     if (f.values.size() != n * f.components) throw std::logic_error("VTK field " + f.name + " has the wrong size");
-    fmt::format_to(std::back_inserter(s), "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
+    fmt::format_to(std::back_inserter(s),
+                   "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
                    f.integer ? "Int64" : "Float64", f.name, f.components);
     for (double v : f.values) {
       if (f.integer)
@@ -104,7 +105,9 @@ template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&);
 template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&);
 
 std::string pvd(const std::vector<std::pair<double, std::string>>& entries) {
-  std::string s = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n<Collection>\n";
+  std::string s =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" "
+      "byte_order=\"LittleEndian\">\n<Collection>\n";
   for (const auto& [t, file] : entries)
     fmt::format_to(std::back_inserter(s), "<DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", t, file);
   s += "</Collection>\n</VTKFile>\n";

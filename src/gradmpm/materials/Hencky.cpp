@@ -30,9 +30,8 @@ Hencky::Hencky(double E, double nu, double rho)
 void Hencky::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {
   // Trial elastic left Cauchy-Green tensor b_e = dF exp(2 eps_n) dF^T.
   Eigen::SelfAdjointEigenSolver<Mat3> eps_eig(unpack_symmetric(state_n));
-  const Mat3 be_n =
-      eps_eig.eigenvectors() * (2.0 * eps_eig.eigenvalues()).array().exp().matrix().asDiagonal() *
-      eps_eig.eigenvectors().transpose();
+  const Mat3 be_n = eps_eig.eigenvectors() * (2.0 * eps_eig.eigenvalues()).array().exp().matrix().asDiagonal() *
+                    eps_eig.eigenvectors().transpose();
   const Mat3 be = dF * be_n * dF.transpose();
 
   Eigen::SelfAdjointEigenSolver<Mat3> eig(be);

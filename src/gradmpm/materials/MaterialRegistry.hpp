@@ -15,11 +15,13 @@
 namespace gradmpm {
 
 struct MaterialInfo {
-  std::string model;  ///< the value of `model`
-  std::string doc;    ///< one line
+  std::string model;          ///< the value of `model`
+  std::string doc;            ///< one line
   std::vector<KeySpec> keys;  ///< every key besides `model`
   /// Reads the law's keys from the section `prefix` ("materials.soil") and makes it.
-  std::function<std::shared_ptr<const Material>(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self)> make;
+  std::function<std::shared_ptr<const Material>(const CaseFile& cf, const std::string& prefix,
+                                                const MaterialInfo& self)>
+      make;
 };
 
 /// young, poisson, density: the keys of isotropic elasticity every law so far has.
@@ -30,7 +32,6 @@ struct ElasticSolid {
 };
 /// Reads young, poisson and density from `prefix` with `self`'s specs of them.
 ElasticSolid read_elastic_solid(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self);
-
 
 class MaterialRegistry : public Registry<MaterialRegistry, MaterialInfo, &MaterialInfo::model> {
  public:
@@ -46,11 +47,12 @@ void register_builtins(MaterialRegistry& registry);
 /// constructor is Law(young, poisson, density).
 template <class Law>
 MaterialInfo elastic_law_info(std::string model, std::string doc) {
-  return {std::move(model), std::move(doc), isotropic_elasticity_keys(),
-          [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) -> std::shared_ptr<const Material> {
-            const ElasticSolid s = read_elastic_solid(cf, prefix, self);
-            return std::make_shared<Law>(s.elasticity.young, s.elasticity.poisson, s.density);
-          }};
+  return {
+      std::move(model), std::move(doc), isotropic_elasticity_keys(),
+      [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) -> std::shared_ptr<const Material> {
+        const ElasticSolid s = read_elastic_solid(cf, prefix, self);
+        return std::make_shared<Law>(s.elasticity.young, s.elasticity.poisson, s.density);
+      }};
 }
 
 }  // namespace gradmpm

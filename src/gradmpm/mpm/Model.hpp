@@ -77,7 +77,7 @@ struct NewtonSettings {
   int load_steps = 1;
   double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
   int max_iterations = 25;
-  int max_cuts = 6;         ///< halvings of a failing load increment before giving up
+  int max_cuts = 6;  ///< halvings of a failing load increment before giving up
   LinearSolverSettings linear_solver;
 };
 
@@ -104,22 +104,23 @@ struct PhaseTimes {
 
 /// What one converged load step did; passed to the observer after every step.
 struct StepInfo {
-  int step = 0;                  ///< 1, 2, ... (converged steps)
-  double load_factor = 0.0;      ///< lambda at the end of the step
-  double increment = 0.0;        ///< d lambda of the step
-  int cuts = 0;                  ///< halvings needed before this step converged
-  std::vector<double> residuals; ///< normalised out-of-balance force per Newton iteration
-  int indefinite_solves = 0;     ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
-  bool last = false;             ///< the step that reaches load factor 1
+  int step = 0;                   ///< 1, 2, ... (converged steps)
+  double load_factor = 0.0;       ///< lambda at the end of the step
+  double increment = 0.0;         ///< d lambda of the step
+  int cuts = 0;                   ///< halvings needed before this step converged
+  std::vector<double> residuals;  ///< normalised out-of-balance force per Newton iteration
+  int indefinite_solves =
+      0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
+  bool last = false;  ///< the step that reaches load factor 1
   /// Grid fields of the step, computed only when called (outputs ask for them on the
   /// steps they write); valid during the post-step stages and the observer call only.
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
   std::function<Vector()> grid_mass;          ///< nodal mass sum_p N_i m_p (eq. 1)
-  double seconds = 0.0;          ///< the load step, its cuts included, without the post-step stages
-  double stage_seconds = 0.0;    ///< the post-step stages
-  PhaseTimes phases;             ///< of the converged attempt
-  int dofs = 0;                  ///< equations of the step
-  long nonzeros = 0;             ///< entries of the tangent
+  double seconds = 0.0;                       ///< the load step, its cuts included, without the post-step stages
+  double stage_seconds = 0.0;                 ///< the post-step stages
+  PhaseTimes phases;                          ///< of the converged attempt
+  int dofs = 0;                               ///< equations of the step
+  long nonzeros = 0;                          ///< entries of the tangent
 };
 
 }  // namespace gradmpm

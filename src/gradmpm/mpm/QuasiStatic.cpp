@@ -17,7 +17,6 @@ namespace gradmpm {
 
 namespace {
 
-
 /// A Newton failure inside one load step (the caller cuts the increment).
 struct StepFailure {
   std::string reason;
@@ -102,7 +101,8 @@ class LoadStep {
         continue;
       }
       const Material& mat = model_.material_of(p);
-      mat.update(dF, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
+      mat.update(dF, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride,
+                 response_[p]);
       auto& G = grads_[p];  // gradients in the configuration the stress lives in
       if (mat.finite_strain()) {
         const Mat3 inv = dF.inverse();
@@ -183,7 +183,8 @@ class LoadStep {
   /// The active nodes' coordinates, one row per node in equation order.
   Eigen::MatrixXd node_coordinates() const {
     Eigen::MatrixXd x(dofs_.num_active_nodes(), dim);
-    for (int e = 0; e < dofs_.num_active_nodes(); ++e) x.row(e) = model_.grid.node_position(dofs_.node_of(e)).transpose();
+    for (int e = 0; e < dofs_.num_active_nodes(); ++e)
+      x.row(e) = model_.grid.node_position(dofs_.node_of(e)).transpose();
     return x;
   }
 
@@ -340,9 +341,9 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
         break;
       } catch (const StepFailure& f) {
         if (info.cuts == settings.max_cuts)
-          throw SolverError(fmt::format(
-              "load step {} failed from load factor {:.6g} with increment {:.3g} after {} cut(s): {}",
-              summary.steps + 1, lambda, dlambda, info.cuts, f.reason));
+          throw SolverError(
+              fmt::format("load step {} failed from load factor {:.6g} with increment {:.3g} after {} cut(s): {}",
+                          summary.steps + 1, lambda, dlambda, info.cuts, f.reason));
         dlambda *= 0.5;
         ++info.cuts;
         ++summary.cuts;
@@ -368,10 +369,10 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
 }
 
 template RunSummary run_quasi_static<1>(Model<1>&, const NewtonSettings&, const std::vector<PostStepStage<1>*>&,
-                                       const StepObserver<1>&);
+                                        const StepObserver<1>&);
 template RunSummary run_quasi_static<2>(Model<2>&, const NewtonSettings&, const std::vector<PostStepStage<2>*>&,
-                                       const StepObserver<2>&);
+                                        const StepObserver<2>&);
 template RunSummary run_quasi_static<3>(Model<3>&, const NewtonSettings&, const std::vector<PostStepStage<3>*>&,
-                                       const StepObserver<3>&);
+                                        const StepObserver<3>&);
 
 }  // namespace gradmpm

@@ -34,8 +34,7 @@ GaussRule01::GaussRule01(int points) : n(points) {
       break;
     }
     default:
-      throw std::invalid_argument("Gauss rule with " + std::to_string(points) +
-                                  " points is not available (1 to 4)");
+      throw std::invalid_argument("Gauss rule with " + std::to_string(points) + " points is not available (1 to 4)");
   }
   for (int i = 0; i < n; ++i) {
     xi[i] = 0.5 * (xi[i] + 1.0);

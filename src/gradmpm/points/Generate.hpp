@@ -23,8 +23,7 @@ struct GaussRule01 {
 template <int dim>
 void add_gauss_points(const Grid<dim>& grid, const typename Grid<dim>::Index& first,
                       const typename Grid<dim>::Index& last, int n,
-                      const std::function<int(const Vec<dim>&)>& material_at,
-                      MaterialPoints<dim>& points) {
+                      const std::function<int(const Vec<dim>&)>& material_at, MaterialPoints<dim>& points) {
   const GaussRule01 rule(n);
   const Vec<dim>& h = grid.cell_size();
   int per_cell = 1;
@@ -61,9 +60,8 @@ void add_gauss_points(const Grid<dim>& grid, const typename Grid<dim>::Index& fi
 /// satisfies `inside(x)`. Volume = sub-cell volume, domain = the sub-cell.
 template <int dim>
 int add_regular_points(const Grid<dim>& grid, const typename Grid<dim>::Index& first,
-                       const typename Grid<dim>::Index& last, int n,
-                       const std::function<bool(const Vec<dim>&)>& inside, int material, double density,
-                       MaterialPoints<dim>& points) {
+                       const typename Grid<dim>::Index& last, int n, const std::function<bool(const Vec<dim>&)>& inside,
+                       int material, double density, MaterialPoints<dim>& points) {
   const Vec<dim>& h = grid.cell_size();
   int per_cell = 1;
   for (int d = 0; d < dim; ++d) per_cell *= n;

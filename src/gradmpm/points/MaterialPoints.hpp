@@ -23,9 +23,9 @@ struct MaterialPoints {
   /// sizes and fills it.
   std::vector<double> state;
   int state_stride = 0;
-  std::vector<Vec<dim>> half_length;        ///< GIMP domain half-lengths l_p (current)
+  std::vector<Vec<dim>> half_length;           ///< GIMP domain half-lengths l_p (current)
   std::vector<Vec<dim>> original_half_length;  ///< l_p0
-  std::vector<Vec<dim>> force;              ///< point load at load factor 1
+  std::vector<Vec<dim>> force;                 ///< point load at load factor 1
 
   int size() const { return static_cast<int>(position.size()); }
   double* state_of(int p) { return state.data() + static_cast<std::size_t>(p) * state_stride; }

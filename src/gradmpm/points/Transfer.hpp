@@ -71,8 +71,8 @@ PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints
 /// Volume-weighted recovery of a scalar point field at the nodes (see header).
 /// Nodes that no point touches get 0.
 template <int dim>
-Vector points_to_nodes(const PointStencils<dim>& st, const MaterialPoints<dim>& points,
-                       const std::vector<double>& q, int num_nodes) {
+Vector points_to_nodes(const PointStencils<dim>& st, const MaterialPoints<dim>& points, const std::vector<double>& q,
+                       int num_nodes) {
   Vector num = Vector::Zero(num_nodes), den = Vector::Zero(num_nodes);
   for (std::size_t p = 0; p < st.size(); ++p) {
     for (int a = 0; a < st[p].count; ++a) {

@@ -16,13 +16,12 @@ class Assembler {
  public:
   static constexpr int max_local = Stencil<dim>::capacity * dim;
   /// Local matrix of one point: (count*ncomp)^2, stack storage only.
-  using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor,
-                                    max_local, max_local>;
+  using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, max_local, max_local>;
 
   /// With the grid, points are coloured for race-free threaded assembly (below); without
   /// it the scatter-add is serial.
-  Assembler(const PointStencils<dim>& stencils, const MaterialPoints<dim>& points,
-            const DofMap& dofs, const Grid<dim>* grid = nullptr)
+  Assembler(const PointStencils<dim>& stencils, const MaterialPoints<dim>& points, const DofMap& dofs,
+            const Grid<dim>* grid = nullptr)
       : st_(stencils), points_(points), dofs_(dofs) {
     if (grid) colour(*grid);
   }
@@ -113,8 +112,7 @@ class Assembler {
     Vector f = Vector::Zero(dofs_.num_dofs());
     for (int p = 0; p < points_.size(); ++p) {
       const Stencil<dim>& s = st_[p];
-      for (int a = 0; a < s.count; ++a)
-        f[dofs_.dof(s.node[a], 0)] += s.N[a] * q[p] * points_.volume[p];
+      for (int a = 0; a < s.count; ++a) f[dofs_.dof(s.node[a], 0)] += s.N[a] * q[p] * points_.volume[p];
     }
     return f;
   }
@@ -156,8 +154,7 @@ class Assembler {
     Vector f = Vector::Zero(dofs_.num_dofs());
     for (int p = 0; p < points_.size(); ++p) {
       const Stencil<dim>& s = st_[p];
-      for (int a = 0; a < s.count; ++a)
-        f[dofs_.dof(s.node[a], 0)] += s.dN[a][d] * q[p] * points_.volume[p];
+      for (int a = 0; a < s.count; ++a) f[dofs_.dof(s.node[a], 0)] += s.dN[a][d] * q[p] * points_.volume[p];
     }
     return f;
   }

@@ -11,8 +11,7 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
   removed_.clear();
   std::vector<int> index(A.rows(), -1);  // constraint number of each dof, or -1
   for (std::size_t k = 0; k < dofs.size(); ++k) {
-    if (dofs[k] < 0 || dofs[k] >= A.rows())
-      throw std::out_of_range("Dirichlet constraint on a dof outside the system");
+    if (dofs[k] < 0 || dofs[k] >= A.rows()) throw std::out_of_range("Dirichlet constraint on a dof outside the system");
     index[dofs[k]] = static_cast<int>(k);
   }
   // Constrained equations get the largest diagonal of A: the scale of the system, so the
@@ -39,8 +38,7 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
 }
 
 void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& values) const {
-  if (values.size() != dofs_.size())
-    throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
+  if (values.size() != dofs_.size()) throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
   for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
   for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = scale_ * values[k];
 }

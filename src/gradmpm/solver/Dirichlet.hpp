@@ -26,7 +26,7 @@ class DirichletElimination {
     double value;
   };
   std::vector<int> dofs_;
-  double scale_ = 1.0;  ///< the diagonal given to constrained equations
+  double scale_ = 1.0;          ///< the diagonal given to constrained equations
   std::vector<Entry> removed_;  ///< A_ic for free rows i and constrained columns c
 };
 

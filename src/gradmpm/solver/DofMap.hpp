@@ -14,8 +14,7 @@ class DofMap {
   DofMap() = default;
 
   template <int dim>
-  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp)
-      : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
+  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp) : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
     for (const auto& s : st)
       for (int a = 0; a < s.count; ++a) eq_of_node_[s.node[a]] = 0;
     for (int n = 0; n < num_nodes; ++n)

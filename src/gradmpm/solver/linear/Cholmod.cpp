@@ -1,7 +1,7 @@
 // CHOLMOD (SuiteSparse) supernodal Cholesky: the default solver of symmetric positive
 // definite systems. Reads the lower triangle.
-#include <Eigen/CholmodSupport>
 #include <omp.h>
+#include <Eigen/CholmodSupport>
 
 #include "gradmpm/solver/linear/EigenSolver.hpp"
 

@@ -47,7 +47,9 @@ Eigen::MatrixXd LinearSolver::do_solve(const Eigen::MatrixXd& B) const {
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, MatrixKind kind) {
   const auto& registry = LinearSolverRegistry::instance();
   const LinearSolverInfo* info = registry.find(settings.type);
-  if (!info) throw SolverError(fmt::format("no linear solver named \"{}\" (registered: {})", settings.type, registry.quoted_names()));
+  if (!info)
+    throw SolverError(
+        fmt::format("no linear solver named \"{}\" (registered: {})", settings.type, registry.quoted_names()));
   if (kind == MatrixKind::General && !info->general) {
     info = registry.find(settings.general);
     if (!info || !info->general)

@@ -1,9 +1,9 @@
 // Conjugate gradients preconditioned by an incomplete Cholesky factorisation (Eigen),
 // for symmetric positive definite problems too large to factorise. Not converging is a
 // SolverError naming the iterations and the residual reached.
+#include <fmt/format.h>
 #include <Eigen/IterativeLinearSolvers>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
@@ -29,18 +29,21 @@ class Pcg final : public LinearSolver {
     matrix_ = A;
     cg_.factorize(matrix_);  // the incomplete Cholesky preconditioner
     if (cg_.info() != Eigen::Success)
-      throw SolverError("sparse factorisation (pcg) failed: the matrix is not positive definite (is the body "
-                        "under-constrained?)");
+      throw SolverError(
+          "sparse factorisation (pcg) failed: the matrix is not positive definite (is the body "
+          "under-constrained?)");
     const int n = static_cast<int>(A.rows());
     cg_.setTolerance(tolerance_);
-    cg_.setMaxIterations(max_iterations_ > 0 ? max_iterations_ : std::max(200, static_cast<int>(20 * std::sqrt(double(n)))));
+    cg_.setMaxIterations(max_iterations_ > 0 ? max_iterations_
+                                             : std::max(200, static_cast<int>(20 * std::sqrt(double(n)))));
   }
   Vector do_solve(const Vector& b) const override {
     Vector x = cg_.solve(b);
     if (cg_.info() != Eigen::Success || !x.allFinite())
-      throw SolverError(fmt::format("preconditioned CG did not converge: relative residual {:.2e} after {} iterations "
-                                    "(tolerance {:.1e}, limit {})",
-                                    cg_.error(), cg_.iterations(), cg_.tolerance(), cg_.maxIterations()));
+      throw SolverError(
+          fmt::format("preconditioned CG did not converge: relative residual {:.2e} after {} iterations "
+                      "(tolerance {:.1e}, limit {})",
+                      cg_.error(), cg_.iterations(), cg_.tolerance(), cg_.maxIterations()));
     return x;
   }
 
