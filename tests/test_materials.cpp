@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "MaterialTestUtil.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/LinearElastic.hpp"
@@ -34,39 +35,23 @@ struct Updated {
   MaterialResponse r;
   Mat3 strain;
 };
+std::vector<double> history(const Mat3& strain_n) {
+  std::vector<double> s(6);
+  pack_symmetric(strain_n, s.data());
+  return s;
+}
 Updated respond(const Material& m, const Mat3& dF, const Mat3& strain_n) {
-  double state_n[6], state[6];
-  pack_symmetric(strain_n, state_n);
-  Updated u;
-  m.update(dF, state_n, state, u.r);
-  u.strain = m.elastic_strain(state);
-  return u;
+  const test::Updated u = test::respond(m, dF, history(strain_n));
+  return {u.r, m.elastic_strain(u.state.data())};
 }
 
 Mat9 isotropic_elasticity(double young, double poisson) { return IsotropicElasticity(young, poisson).tensor(); }
 
 Mat9 tangent_of(const Material& m, const Mat3& dF, const Mat3& strain_n) {
-  const MaterialResponse r = respond(m, dF, strain_n).r;
-  Mat9 A;
-  m.tangent(r, 3, A);
-  return A;
+  return test::tangent_of(m, dF, history(strain_n));
 }
-
-/// Central differences of tau(dF) along dF -> (I + h E_kl) dF, plus the geometric term.
 Mat9 finite_difference_tangent(const Material& m, const Mat3& dF, const Mat3& strain_n, double h) {
-  const MaterialResponse r0 = respond(m, dF, strain_n).r;
-  Mat9 A;
-  for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) {
-      Mat3 E = Mat3::Zero();
-      E(k, l) = h;
-      const MaterialResponse rp = respond(m, (Mat3::Identity() + E) * dF, strain_n).r;
-      const MaterialResponse rm = respond(m, (Mat3::Identity() - E) * dF, strain_n).r;
-      const Mat3 dtau = (rp.stress - rm.stress) / (2.0 * h);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) A(3 * i + j, 3 * k + l) = dtau(i, j) - r0.stress(i, l) * (j == k);
-    }
-  return A;
+  return test::finite_difference_tangent(m, dF, history(strain_n), h);
 }
 
 Mat3 rotation(double a, double b, double c) {

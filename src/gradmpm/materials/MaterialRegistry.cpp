@@ -8,10 +8,12 @@ namespace gradmpm {
 
 MaterialInfo linear_elastic_info();  // materials/LinearElastic.cpp
 MaterialInfo hencky_info();          // materials/Hencky.cpp
+MaterialInfo von_mises_info();       // materials/VonMises.cpp
 
 void register_builtins(MaterialRegistry& registry) {
   registry.add(hencky_info());
   registry.add(linear_elastic_info());
+  registry.add(von_mises_info());
 }
 
 std::vector<KeySpec> isotropic_elasticity_keys() {

@@ -1,0 +1,78 @@
+#include "gradmpm/materials/Spectral.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace gradmpm {
+
+namespace {
+constexpr int at(int i, int j) { return 3 * i + j; }
+static_assert(MaterialResponse::cache_capacity >= 12);
+}  // namespace
+
+ElasticTrial elastic_trial(const Mat3& dF, const Mat3& eps_n) {
+  Eigen::SelfAdjointEigenSolver<Mat3> eps_eig(eps_n);
+  const Mat3 be_n = eps_eig.eigenvectors() * (2.0 * eps_eig.eigenvalues()).array().exp().matrix().asDiagonal() *
+                    eps_eig.eigenvectors().transpose();
+  const Mat3 be = dF * be_n * dF.transpose();
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(be);
+  return {eig.eigenvalues(), eig.eigenvectors()};
+}
+
+double log_divided_difference(double a, double b) {
+  const double r = b / a - 1.0;
+  if (std::abs(r) < 1e-6) return (1.0 - r / 2.0 + r * r / 3.0) / a;
+  return std::log1p(r) / (a * r);
+}
+
+void spectral_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, double iso, const Mat3& D,
+                      const Eigen::Vector3d& spin, int dim, Mat9& A) {
+  // Nine rank-one terms instead of dense 9x9 products (docs/performance.md).
+  const Eigen::Vector3d& lam = trial.stretch2;
+  const Mat3& n = trial.directions;
+  auto P = [&](int a, int b) {  // vec(n_a (x) n_b), index 3i + j
+    Eigen::Matrix<double, 9, 1> v;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) v[at(i, j)] = n(i, a) * n(j, b);
+    return v;
+  };
+  Mat9 U, W;  // A = iso I(x)I + U W^T, column t of U and W one rank-one term
+  for (int a = 0; a < 3; ++a) U.col(a) = P(a, a);
+  for (int a = 0; a < 3; ++a) {
+    W.col(a) = (D(a, 0) - (a == 0 ? tau[a] : 0.0)) * U.col(0);
+    for (int b = 1; b < 3; ++b) W.col(a) += (D(a, b) - (a == b ? tau[a] : 0.0)) * U.col(b);
+  }
+  int t = 3;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b, t += 2) {
+      const double c = spin[a + b - 1];  // (0,1) -> 0, (0,2) -> 1, (1,2) -> 2
+      const double e = c * lam[a] - tau[a];
+      const auto pab = P(a, b), pba = P(b, a);
+      U.col(t) = pab;
+      W.col(t) = c * lam[b] * pab + e * pba;
+      U.col(t + 1) = pba;
+      W.col(t + 1) = c * lam[a] * pba + e * pab;
+    }
+  if (dim == 3) {
+    A.noalias() = U.lazyProduct(W.transpose());
+  } else {  // the in-plane block only: dim^4 of the 81 entries
+    A.setZero();
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j)
+        for (int k = 0; k < dim; ++k)
+          for (int l = 0; l < dim; ++l) A(at(i, j), at(k, l)) = U.row(at(i, j)).dot(W.row(at(k, l)));
+  }
+  for (int i = 0; i < dim; ++i)
+    for (int k = 0; k < dim; ++k) A(at(i, i), at(k, k)) += iso;
+}
+
+void store_trial(const ElasticTrial& t, MaterialResponse& r) {
+  Eigen::Map<Eigen::Vector3d>(r.cache.data()) = t.stretch2;
+  Eigen::Map<Mat3>(r.cache.data() + 3) = t.directions;
+}
+
+ElasticTrial load_trial(const MaterialResponse& r) {
+  return {Eigen::Map<const Eigen::Vector3d>(r.cache.data()), Eigen::Map<const Mat3>(r.cache.data() + 3)};
+}
+
+}  // namespace gradmpm

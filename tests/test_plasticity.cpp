@@ -1,0 +1,258 @@
+// Requirements on finite-strain von Mises plasticity (materials/VonMises.hpp):
+//  R1 after a plastic return the stress is on the yield surface, q(tau) = sigma_y(kappa),
+//     to 1e-10 relative, with kappa grown by the plastic multiplier; inside the surface
+//     the update is Hencky's;
+//  R2 the consistent tangent is the derivative of the update (central differences, 1e-6
+//     relative) in elastic and plastic states: hardening, perfect plasticity, softening,
+//     at the residual floor and when the floor is reached within the step;
+//  R3 the tangent is symmetric (associated flow);
+//  R4 homogeneous uniaxial strain (dim = 1) compressed to 40 % logarithmic strain in 40
+//     MPM load steps gives the small-strain closed form in Kirchhoff stress and
+//     logarithmic strain to 1e-8 relative: slope lambda + 2 mu, yield at
+//     |tau_axial - tau_lateral| = sigma_y, then slope K + 4/3 mu H / (3 mu + H) (and the
+//     residual plateau when softening);
+//  R5 Newton converges quadratically in plastic steps of a non-homogeneous problem (a
+//     strip load on a block): residual ratios log r_k+1 / log r_k >= 1.8 once r_k < 1e-3
+//     (and r_k+1 above the round-off floor, 1e-12);
+//  R6 the law is read from a case file with its own keys and ranges, and eps_p reaches
+//     points_final.csv by name.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <Eigen/Dense>
+#include <cmath>
+#include <iostream>
+
+#include <unistd.h>
+
+#include "CliTestUtil.hpp"
+#include "MaterialTestUtil.hpp"
+#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/SymmetricTensor.hpp"
+#include "gradmpm/materials/VonMises.hpp"
+#include "gradmpm/points/Generate.hpp"
+
+using namespace gradmpm;
+
+namespace {
+
+constexpr double kE = 1000.0, kNu = 0.3, kSy = 10.0;
+
+VonMises law(double H, double residual = 0.0) {
+  return VonMises(IsotropicElasticity(kE, kNu), 1.0, {kSy, H, residual});
+}
+
+std::vector<double> state(const Mat3& eps_e, double kappa) {
+  std::vector<double> s(7);
+  pack_symmetric(eps_e, s.data());
+  s[6] = kappa;
+  return s;
+}
+
+double mises(const Mat3& tau) {
+  const Mat3 s = tau - tau.trace() / 3.0 * Mat3::Identity();
+  return std::sqrt(1.5 * (s.array() * s.array()).sum());
+}
+
+/// A general 3D increment (rotated, sheared, compressed) that yields from a small history.
+Mat3 plastic_increment() {
+  Mat3 dF;
+  dF << 0.97, 0.03, -0.01, 0.02, 1.02, 0.015, -0.01, 0.01, 0.99;
+  return dF;
+}
+Mat3 history_strain() {
+  Mat3 e;
+  e << 0.004, 0.001, 0.0, 0.001, -0.003, 0.0005, 0.0, 0.0005, 0.001;
+  return e;
+}
+
+}  // namespace
+
+TEST(VonMises, PlasticReturnEndsOnTheYieldSurface) {
+  for (double H : {200.0, 0.0, -100.0}) {
+    const VonMises m = law(H, 2.0);
+    const auto u = test::respond(m, plastic_increment(), state(history_strain(), 0.01));
+    const double kappa = u.state[6];
+    ASSERT_GT(kappa, 0.01) << "the increment is plastic, H = " << H;
+    const double q = mises(u.r.stress), sy = m.yield_stress(kappa);
+    EXPECT_LT(std::abs(q - sy) / sy, 1e-10) << "H = " << H;
+  }
+  // Inside the surface: Hencky's update, kappa unchanged.
+  const VonMises m = law(0.0);
+  Mat3 small = Mat3::Identity();
+  small(0, 1) = 1e-4;
+  const auto u = test::respond(m, small, state(Mat3::Zero(), 0.0));
+  EXPECT_EQ(u.state[6], 0.0);
+  EXPECT_LT(mises(u.r.stress), kSy);
+}
+
+TEST(VonMises, TangentMatchesFiniteDifferencesInElasticAndPlasticStates) {
+  struct Case {
+    const char* what;
+    double H, residual, kappa_n;
+    Mat3 dF;
+  };
+  Mat3 elastic = Mat3::Identity();
+  elastic(0, 1) = 2e-3;
+  elastic(1, 1) = 0.999;
+  const std::vector<Case> cases = {
+      {"elastic", 200.0, 0.0, 0.0, elastic},
+      {"hardening", 200.0, 0.0, 0.01, plastic_increment()},
+      {"perfectly plastic", 0.0, 0.0, 0.01, plastic_increment()},
+      {"softening", -100.0, 2.0, 0.01, plastic_increment()},
+      {"at the floor", -100.0, 8.0, 0.05, plastic_increment()},
+      {"floor reached in the step", -400.0, 8.0, 0.0, plastic_increment()},
+  };
+  for (const auto& c : cases) {
+    const VonMises m = law(c.H, c.residual);
+    const auto s = state(history_strain(), c.kappa_n);
+    const Mat9 A = test::tangent_of(m, c.dF, s);
+    const Mat9 Afd = test::finite_difference_tangent(m, c.dF, s, 1e-7);
+    const double err = (A - Afd).cwiseAbs().maxCoeff() / A.cwiseAbs().maxCoeff();
+    std::cout << c.what << ": max |A - A_fd| / max |A| = " << err << "\n";
+    EXPECT_LT(err, 1e-6) << c.what;
+    const double asym = (A - A.transpose()).cwiseAbs().maxCoeff() / A.cwiseAbs().maxCoeff();
+    EXPECT_LT(asym, 1e-12) << c.what << ": associated flow has a symmetric tangent";
+    // Plane strain and uniaxial blocks are those of the full tangent.
+    for (int dim : {1, 2}) {
+      const Mat9 B = test::tangent_of(m, c.dF, s, dim);
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j)
+          for (int k = 0; k < dim; ++k)
+            for (int l = 0; l < dim; ++l)
+              EXPECT_NEAR(B(3 * i + j, 3 * k + l), A(3 * i + j, 3 * k + l), 1e-12 * A.cwiseAbs().maxCoeff());
+    }
+  }
+}
+
+namespace {
+/// tau_axial and tau_lateral of homogeneous uniaxial strain at logarithmic strain eps < 0.
+std::pair<double, double> uniaxial_closed_form(double eps, double H, double residual) {
+  const IsotropicElasticity e(kE, kNu);
+  const double K = e.lambda + 2.0 * e.mu / 3.0, mu = e.mu, a = std::abs(eps);
+  double d = 2.0 * mu * a;  // |tau_axial - tau_lateral|
+  if (d > kSy) {
+    const double kappa = (2.0 * mu * a - kSy) / (3.0 * mu + H);
+    d = kSy + H * kappa;
+    if (H < 0.0 && d < residual) d = residual;  // then kappa = (2 mu a - residual) / (3 mu)
+  }
+  const double p = K * eps;
+  return {p - 2.0 / 3.0 * d, p + 1.0 / 3.0 * d};  // compression: tau_axial < tau_lateral
+}
+}  // namespace
+
+TEST(VonMises, UniaxialStrainToFortyPercentMatchesTheClosedForm) {
+  for (const auto& [H, residual] : {std::pair{150.0, 0.0}, std::pair{0.0, 0.0}, std::pair{-60.0, 4.0}}) {
+    // One cell, four points: every linear basis reproduces the homogeneous state.
+    Model<1> m(Grid<1>(Vec<1>(0.0), Vec<1>(1.0), {1}));
+    m.materials.push_back(
+        std::make_shared<VonMises>(IsotropicElasticity(kE, kNu), 1.0, VonMisesParameters{kSy, H, residual}));
+    add_regular_points<1>(
+        m.grid, {0}, {1}, 4, [](const Vec<1>&) { return true; }, 0, 1.0, m.points);
+    // The grid node moves; the material's log strain grows by ln(1 + du / h) per step
+    // (h = 1): 40 equal increments of -0.01.
+    m.constraints = {{0, 0, 0.0}, {1, 0, 40.0 * (std::exp(-0.01) - 1.0)}};
+    NewtonSettings s;
+    s.load_steps = 40;
+    double worst = 0.0, last_eps = 0.0;
+    bool yielded = false;
+    run_quasi_static<1>(m, s, [&](const Model<1>& mm, const StepInfo&) {
+      for (int p = 0; p < mm.points.size(); ++p) {
+        const double J = mm.points.F[p].determinant(), eps = std::log(mm.points.F[p](0, 0));
+        const auto [ta, tl] = uniaxial_closed_form(eps, H, residual);
+        const double tau_a = J * mm.points.stress[p](0, 0), tau_l = J * mm.points.stress[p](1, 1);
+        worst = std::max({worst, std::abs(tau_a - ta) / std::abs(ta), std::abs(tau_l - tl) / std::abs(ta)});
+        yielded = yielded || mm.points.state_of(p)[6] > 0.0;
+        last_eps = eps;
+      }
+    });
+    std::cout << "H = " << H << ", residual " << residual << ": final log strain " << last_eps
+              << ", max relative error " << worst << "\n";
+    EXPECT_NEAR(last_eps, -0.4, 1e-10);
+    EXPECT_TRUE(yielded);
+    EXPECT_LT(worst, 1e-8) << "H = " << H;
+  }
+}
+
+namespace {
+std::string strip_load_case() {
+  return R"(
+[grid]
+origin = [0.0, 0.0]
+cell_size = 0.125
+cells = [8, 8]
+[materials.clay]
+model = "von-mises"
+young = 1000.0
+poisson = 0.3
+yield_stress = 10.0
+hardening = 50.0
+[[bodies]]
+material = "clay"
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+[[constraints]]
+face = "y-"
+fix = ["x", "y"]
+[[constraints]]
+face = "x-"
+fix = ["x"]
+[[constraints]]
+min = [0.0, 1.0]
+max = [0.25, 1.0]
+fix = ["y"]
+displacement = [0.0, -0.04]
+[load_steps]
+count = 8
+[output]
+vtk_every = 0
+)";
+}
+}  // namespace
+
+TEST(VonMises, NewtonConvergesQuadraticallyInPlasticSteps) {
+  CaseFile cf = CaseFile::parse(strip_load_case(), "strip.toml");
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  int checked = 0;
+  double worst = 10.0;
+  run_quasi_static<2>(c.model, c.newton, [&](const Model<2>& m, const StepInfo& info) {
+    bool plastic = false;
+    for (int p = 0; p < m.points.size(); ++p) plastic = plastic || m.points.state_of(p)[6] > 0.0;
+    if (!plastic) return;
+    const auto& r = info.residuals;
+    std::cout << "step " << info.step << " residuals";
+    for (double x : r) std::cout << " " << x;
+    std::cout << "\n";
+    for (std::size_t k = 1; k + 1 < r.size(); ++k)
+      if (r[k] < 1e-3 && r[k + 1] > 1e-12) {  // below 1e-12 the residual is at its round-off floor
+        worst = std::min(worst, std::log(r[k + 1]) / std::log(r[k]));
+        ++checked;
+      }
+  });
+  EXPECT_GT(checked, 3) << "plastic steps with iterations to check";
+  EXPECT_GE(worst, 1.8) << "quadratic convergence";
+}
+
+TEST(VonMises, ReadFromACaseFileWithItsKeysAndWritesEpsP) {
+  for (const auto& [set, message] :
+       {std::pair{"materials.clay.yield_stress=0", "expected a yield stress > 0"},
+        std::pair{"materials.clay.residual_yield_stress=11", "expected a residual yield stress <= yield_stress"},
+        std::pair{"materials.clay.cohesion=3", "unknown key"}}) {
+    CaseFile cf = CaseFile::parse(strip_load_case(), "strip.toml", {set});
+    try {
+      read_mpm_case<2>(cf);
+      FAIL() << set;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("gradmpm-vm-{}", ::getpid());
+  std::filesystem::remove_all(dir);
+  CaseFile cf = CaseFile::parse(strip_load_case(), "strip.toml", {"load_steps.count=2"});
+  run_mpm_case(cf, dir, true);
+  const std::string csv = test::slurp(dir / "points_final.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,eps_p");
+  std::filesystem::remove_all(dir);
+}
