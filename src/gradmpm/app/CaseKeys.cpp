@@ -9,24 +9,22 @@
 
 namespace gradmpm {
 
+// The key tables are laid out by hand: one key per line or two reads as a table;
+// clang-format would give every field its own line.
+// clang-format off
+
 namespace {
 using K = KeyType;
 
 KeySpec variant_key(bool required) {
-  KeySpec k{.name = "variant",
-            .type = K::String,
-            .choices = {"u-RA", "e-RA", "s-RA", "none"},
+  KeySpec k{.name = "variant", .type = K::String, .choices = {"u-RA", "e-RA", "s-RA", "none"},
             .doc = "which field the Ru-Aifantis step smooths (docs/gradient-study.md)"};
   if (!required) k.default_value = std::string("none");
   return k;
 }
 KeySpec length_scale_key(const char* default_text) {
-  return {.name = "length_scale",
-          .type = K::Number,
-          .default_text = default_text,
-          .min = 0.0,
-          .allowed = "a length scale l >= 0",
-          .doc = "l, the internal length"};
+  return {.name = "length_scale", .type = K::Number, .default_text = default_text, .min = 0.0,
+          .allowed = "a length scale l >= 0", .doc = "l, the internal length"};
 }
 }  // namespace
 
@@ -36,40 +34,20 @@ const SectionSpec& linear_solver_section() {
     std::string types, generals;
     for (const auto& info : r.all()) types += (types.empty() ? "" : "; ") + ("`\"" + info.name + "\"`: " + info.doc);
     return SectionSpec{
-        "linear_solver",
-        SectionKind::Section,
-        false,
-        "the sparse linear solver of every system the case solves",
-        {{.name = "type",
-          .type = K::String,
-          .default_value = LinearSolverSettings{}.type,
+        "linear_solver", SectionKind::Section, false, "the sparse linear solver of every system the case solves",
+        {{.name = "type", .type = K::String, .default_value = LinearSolverSettings{}.type,
           .allowed = "one of " + r.quoted_names(),
           .doc = "solver of the symmetric systems (the tangent when every material's is symmetric, the Helmholtz "
-                 "systems): " +
-                 types},
-         {.name = "general",
-          .type = K::String,
-          .default_value = LinearSolverSettings{}.general,
+                 "systems): " + types},
+         {.name = "general", .type = K::String, .default_value = LinearSolverSettings{}.general,
           .allowed = "a solver of general matrices, one of " + r.quoted_names(true),
           .doc = "solver of non-symmetric tangents and of a symmetric tangent that `type` finds not positive definite"},
-         {.name = "pcg_tolerance",
-          .type = K::Number,
-          .default_value = LinearSolverSettings{}.pcg_tolerance,
-          .min = 0.0,
-          .max = 1.0,
-          .min_open = true,
-          .max_open = true,
-          .doc = "relative residual at which \"pcg\" stops"},
-         {.name = "pcg_max_iterations",
-          .type = K::Integer,
-          .default_value = static_cast<long long>(LinearSolverSettings{}.pcg_max_iterations),
-          .min = 0.0,
-          .max = 1e8,
+         {.name = "pcg_tolerance", .type = K::Number, .default_value = LinearSolverSettings{}.pcg_tolerance, .min = 0.0, .max = 1.0, .min_open = true,
+          .max_open = true, .doc = "relative residual at which \"pcg\" stops"},
+         {.name = "pcg_max_iterations", .type = K::Integer, .default_value = static_cast<long long>(LinearSolverSettings{}.pcg_max_iterations), .min = 0.0, .max = 1e8,
           .allowed = "an integer from 0 (scaled to the problem) to 100000000",
           .doc = "iteration limit of \"pcg\"; 0: max(200, 20 sqrt(n)); not converging is a solver failure"},
-         {.name = "options",
-          .type = K::String,
-          .default_value = LinearSolverSettings{}.options,
+         {.name = "options", .type = K::String, .default_value = LinearSolverSettings{}.options,
           .allowed = "no options for a solver that takes none",
           .doc = "options passed to solvers that take them (none of the built-in ones does)"}}};
   }();
@@ -78,23 +56,12 @@ const SectionSpec& linear_solver_section() {
 
 const SectionSpec& gradient_section() {
   static const SectionSpec s{
-      "gradient",
-      SectionKind::Section,
-      false,
-      "the Ru-Aifantis gradient step",
-      {variant_key(false),
-       length_scale_key("required unless `none`"),
-       {.name = "apply",
-        .type = K::String,
-        .default_value = std::string("each_step"),
-        .choices = {"each_step", "end"},
-        .allowed = "\"each_step\" or \"end\"",
-        .doc = "smooth after every load step, or once after the last"},
-       {.name = "fields",
-        .type = K::String,
-        .default_text = "`\"points\"` (`\"grid\"` with `apply = \"end\"`)",
-        .choices = {"points", "grid"},
-        .allowed = "\"points\" or \"grid\"",
+      "gradient", SectionKind::Section, false, "the Ru-Aifantis gradient step",
+      {variant_key(false), length_scale_key("required unless `none`"),
+       {.name = "apply", .type = K::String, .default_value = std::string("each_step"), .choices = {"each_step", "end"},
+        .allowed = "\"each_step\" or \"end\"", .doc = "smooth after every load step, or once after the last"},
+       {.name = "fields", .type = K::String, .default_text = "`\"points\"` (`\"grid\"` with `apply = \"end\"`)",
+        .choices = {"points", "grid"}, .allowed = "\"points\" or \"grid\"",
         .doc = "`points`: step increments smoothed and carried by the points; `grid`: the total field smoothed from "
                "the points when needed; `end` + `points` is refused"}}};
   return s;
@@ -110,81 +77,41 @@ const SectionSpec& bar_mpm_gradient_section() {
 }
 
 const SectionSpec& bar_gradient_section() {
-  static const SectionSpec s{"gradient",
-                             SectionKind::Section,
-                             true,
-                             "the Ru-Aifantis gradient step",
+  static const SectionSpec s{"gradient", SectionKind::Section, true, "the Ru-Aifantis gradient step",
                              {variant_key(true), length_scale_key("required unless `none` (then 0)")}};
   return s;
 }
 
 const SectionSpec& bar_section() {
-  static const SectionSpec s{"bar",
-                             SectionKind::Section,
-                             true,
-                             "the bi-material bar of the paper (Figure 2)",
-                             {{.name = "length",
-                               .type = K::Number,
-                               .min = 0.0,
-                               .min_open = true,
-                               .allowed = "a length > 0",
-                               .doc = "bar length L"},
-                              {.name = "elements",
-                               .type = K::Integer,
-                               .min = 1.0,
-                               .max = 5e7,
-                               .doc = "cells of the background grid (linear elements)"},
-                              {.name = "split",
-                               .type = K::Number,
-                               .min = 0.0,
-                               .max = 1.0,
-                               .min_open = true,
-                               .max_open = true,
-                               .allowed = "a fraction of the length strictly between 0 and 1",
-                               .doc = "fraction of the length where the material changes (a = split L)"},
-                              {.name = "young",
-                               .type = K::Other,
-                               .type_text = "[number, number]",
-                               .allowed = "two Young's moduli > 0 ([left, right])",
-                               .doc = "Young's moduli [left, right]"},
-                              {.name = "end_displacement",
-                               .type = K::Number,
-                               .allowed = "a finite number",
-                               .doc = "delta, prescribed at x = L (x = 0 is fixed)"},
-                              {.name = "points_per_element",
-                               .type = K::Integer,
-                               .default_value = static_cast<long long>(BarConfig{}.points_per_element),
-                               .min = 1.0,
-                               .max = 4.0,
-                               .allowed = "an integer from 1 to 4 (Gauss points per element)",
-                               .doc = "Gauss points (material points) per element"}}};
+  static const SectionSpec s{
+      "bar", SectionKind::Section, true, "the bi-material bar of the paper (Figure 2)",
+      {{.name = "length", .type = K::Number, .min = 0.0, .min_open = true, .allowed = "a length > 0", .doc = "bar length L"},
+       {.name = "elements", .type = K::Integer, .min = 1.0, .max = 5e7,
+        .doc = "cells of the background grid (linear elements)"},
+       {.name = "split", .type = K::Number, .min = 0.0, .max = 1.0, .min_open = true, .max_open = true,
+        .allowed = "a fraction of the length strictly between 0 and 1",
+        .doc = "fraction of the length where the material changes (a = split L)"},
+       {.name = "young", .type = K::Other, .type_text = "[number, number]", .allowed = "two Young's moduli > 0 ([left, right])",
+        .doc = "Young's moduli [left, right]"},
+       {.name = "end_displacement", .type = K::Number, .allowed = "a finite number",
+        .doc = "delta, prescribed at x = L (x = 0 is fixed)"},
+       {.name = "points_per_element", .type = K::Integer, .default_value = static_cast<long long>(BarConfig{}.points_per_element), .min = 1.0, .max = 4.0,
+        .allowed = "an integer from 1 to 4 (Gauss points per element)", .doc = "Gauss points (material points) per element"}}};
   return s;
 }
 
 const SectionSpec& bar_output_section() {
-  static const SectionSpec s{
-      "output",
-      SectionKind::Section,
-      false,
-      "outputs",
-      {{.name = "plot",
-        .type = K::Boolean,
-        .default_value = BarOutputOptions{}.plot,
-        .doc = "write bar.png with Python 3 + matplotlib ($GRADMPM_PYTHON, else /usr/bin/python3, else python3)"}}};
+  static const SectionSpec s{"output", SectionKind::Section, false, "outputs",
+                             {{.name = "plot", .type = K::Boolean, .default_value = BarOutputOptions{}.plot,
+                               .doc = "write bar.png with Python 3 + matplotlib ($GRADMPM_PYTHON, else /usr/bin/python3, else python3)"}}};
   return s;
 }
 
 const SectionSpec& bar_mpm_section() {
   static const SectionSpec s{
-      "mpm",
-      SectionKind::Section,
-      true,
-      "the bar solved by the implicit MPM",
+      "mpm", SectionKind::Section, true, "the bar solved by the implicit MPM",
       {{.name = "load_steps", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "load steps"},
-       {.name = "basis",
-        .type = K::String,
-        .default_value = std::string("mpm"),
-        .choices = {"mpm", "gimp", "cpgimp"},
+       {.name = "basis", .type = K::String, .default_value = std::string("mpm"), .choices = {"mpm", "gimp", "cpgimp"},
         .allowed = "\"mpm\", \"gimp\" or \"cpgimp\"",
         .doc = "`mpm` (points at Gauss positions), `gimp` or `cpgimp` (points at sub-cell centres)"}}};
   return s;
@@ -192,10 +119,9 @@ const SectionSpec& bar_mpm_section() {
 
 const std::vector<SectionSpec>& mpm_sections() {
   static const std::vector<SectionSpec> s = [] {
-    std::vector<KeySpec> material_keys = {{.name = "model",
-                                           .type = K::String,
-                                           .allowed = MaterialRegistry::instance().quoted_names(),
-                                           .doc = "the constitutive law; its keys are listed below"}};
+    std::vector<KeySpec> material_keys = {
+        {.name = "model", .type = K::String, .allowed = MaterialRegistry::instance().quoted_names(),
+         .doc = "the constitutive law; its keys are listed below"}};
     for (const auto& law : MaterialRegistry::instance().all())
       for (const auto& k : law.keys) {
         bool seen = false;
@@ -204,163 +130,66 @@ const std::vector<SectionSpec>& mpm_sections() {
       }
     const std::string dimvec = "[dim numbers]";
     return std::vector<SectionSpec>{
-        {"grid",
-         SectionKind::Section,
-         true,
-         "the background grid",
+        {"grid", SectionKind::Section, true, "the background grid",
          {{.name = "origin", .type = K::Other, .type_text = dimvec, .doc = "lower corner of the background grid"},
-          {.name = "cell_size",
-           .type = K::Other,
-           .type_text = "number or " + dimvec,
-           .allowed = "cell sizes > 0",
+          {.name = "cell_size", .type = K::Other, .type_text = "number or " + dimvec, .allowed = "cell sizes > 0",
            .doc = "cell size, one for all directions or one per direction"},
-          {.name = "cells",
-           .type = K::Other,
-           .type_text = "[dim integers]",
-           .allowed = "cell counts from 1 to 10000000",
+          {.name = "cells", .type = K::Other, .type_text = "[dim integers]", .allowed = "cell counts from 1 to 10000000",
            .doc = "cells per direction; their number is the dimension (1, 2 = plane strain, 3)"}}},
-        {"basis",
-         SectionKind::Section,
-         false,
-         "the shape functions",
-         {{.name = "type",
-           .type = K::String,
-           .default_value = std::string("mpm"),
-           .choices = {"mpm", "gimp", "cpgimp"},
-           .allowed = "\"mpm\", \"gimp\" (uGIMP) or \"cpgimp\"",
-           .doc = "`mpm` (linear), `gimp` (uGIMP), `cpgimp`"}}},
-        {"materials", SectionKind::TableOfSections, true, "one section per material, named by the bodies",
-         material_keys},
-        {"bodies",
-         SectionKind::Array,
-         true,
-         "bodies of material points",
-         {{.name = "material",
-           .type = K::String,
-           .allowed = "the name of a [materials.NAME] section",
+        {"basis", SectionKind::Section, false, "the shape functions",
+         {{.name = "type", .type = K::String, .default_value = std::string("mpm"), .choices = {"mpm", "gimp", "cpgimp"},
+           .allowed = "\"mpm\", \"gimp\" (uGIMP) or \"cpgimp\"", .doc = "`mpm` (linear), `gimp` (uGIMP), `cpgimp`"}}},
+        {"materials", SectionKind::TableOfSections, true, "one section per material, named by the bodies", material_keys},
+        {"bodies", SectionKind::Array, true, "bodies of material points",
+         {{.name = "material", .type = K::String, .allowed = "the name of a [materials.NAME] section",
            .doc = "the material of the body's points"},
-          {.name = "min",
-           .type = K::Other,
-           .type_text = dimvec,
-           .default_text = "required (or `polygon`)",
+          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "required (or `polygon`)",
            .doc = "the body's box (with `max`), inside the grid"},
-          {.name = "max",
-           .type = K::Other,
-           .type_text = dimvec,
-           .default_text = "required (or `polygon`)",
+          {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "required (or `polygon`)",
            .doc = "the body's box (with `min`)"},
-          {.name = "polygon",
-           .type = K::Other,
-           .type_text = "[[x, y], ...]",
-           .default_text = "none",
+          {.name = "polygon", .type = K::Other, .type_text = "[[x, y], ...]", .default_text = "none",
            .doc = "2D only: a polygon (>= 3 vertices) instead of a box"},
-          {.name = "points_per_cell",
-           .type = K::Integer,
-           .default_value = 2LL,
-           .min = 1.0,
-           .max = 8.0,
+          {.name = "points_per_cell", .type = K::Integer, .default_value = 2LL, .min = 1.0, .max = 8.0,
            .allowed = "an integer from 1 to 8 (points per cell and direction)",
            .doc = "points per cell and direction, at sub-cell centres (volume = sub-cell volume), kept where they fall "
                   "inside the body"}}},
-        {"loads",
-         SectionKind::Section,
-         false,
-         "body forces",
-         {{.name = "gravity",
-           .type = K::Other,
-           .type_text = dimvec,
-           .default_text = "zero",
+        {"loads", SectionKind::Section, false, "body forces",
+         {{.name = "gravity", .type = K::Other, .type_text = dimvec, .default_text = "zero",
            .doc = "acceleration at load factor 1; body force m_p g"}}},
-        {"constraints",
-         SectionKind::Array,
-         false,
-         "grid-node constraints",
-         {{.name = "face",
-           .type = K::String,
-           .default_text = "none",
-           .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
+        {"constraints", SectionKind::Array, false, "grid-node constraints",
+         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
            .doc = "node set: a grid face"},
-          {.name = "min",
-           .type = K::Other,
-           .type_text = dimvec,
-           .default_text = "none",
+          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
            .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "see `min`"},
-          {.name = "fix",
-           .type = K::Other,
-           .type_text = "[strings]",
+          {.name = "fix", .type = K::Other, .type_text = "[strings]",
            .doc = "components held, e.g. [\"x\", \"y\"] (fixed) or [\"x\"] (roller)"},
-          {.name = "displacement",
-           .type = K::Other,
-           .type_text = dimvec,
-           .default_text = "zero",
+          {.name = "displacement", .type = K::Other, .type_text = dimvec, .default_text = "zero",
            .doc = "total prescribed displacement of the held components at load factor 1"}}},
-        {"point_loads",
-         SectionKind::Array,
-         false,
-         "forces on material points",
+        {"point_loads", SectionKind::Array, false, "forces on material points",
          {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
-          {.name = "force",
-           .type = K::Other,
-           .type_text = dimvec,
-           .doc = "force on every point in the box at load factor 1"}}},
-        {"load_steps",
-         SectionKind::Section,
-         true,
-         "the load stepping",
+          {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}},
+        {"load_steps", SectionKind::Section, true, "the load stepping",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
-        {"nonlinear_solver",
-         SectionKind::Section,
-         false,
-         "Newton-Raphson",
-         {{.name = "tolerance",
-           .type = K::Number,
-           .default_value = NewtonSettings{}.tolerance,
-           .min = 0.0,
-           .max = 1.0,
-           .min_open = true,
-           .max_open = true,
-           .doc = "on |r_free| / max(|f_ext|, |f_int|)"},
-          {.name = "max_iterations",
-           .type = K::Integer,
-           .default_value = static_cast<long long>(NewtonSettings{}.max_iterations),
-           .min = 1.0,
-           .max = 1000.0,
+        {"nonlinear_solver", SectionKind::Section, false, "Newton-Raphson",
+         {{.name = "tolerance", .type = K::Number, .default_value = NewtonSettings{}.tolerance, .min = 0.0, .max = 1.0, .min_open = true,
+           .max_open = true, .doc = "on |r_free| / max(|f_ext|, |f_int|)"},
+          {.name = "max_iterations", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_iterations), .min = 1.0, .max = 1000.0,
            .doc = "Newton iterations per step before a cut"},
-          {.name = "max_cuts",
-           .type = K::Integer,
-           .default_value = static_cast<long long>(NewtonSettings{}.max_cuts),
-           .min = 0.0,
-           .max = 30.0,
+          {.name = "max_cuts", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_cuts), .min = 0.0, .max = 30.0,
            .doc = "halvings of a failing increment before the run stops"}}},
         linear_solver_section(),
-        {"output",
-         SectionKind::Section,
-         false,
-         "outputs",
-         {{.name = "vtk_every",
-           .type = K::Integer,
-           .default_value = static_cast<long long>(MpmOutputSettings{}.vtk_every),
-           .min = 0.0,
-           .allowed = "an integer >= 0 (0: no VTK output)",
-           .doc = "VTK every n steps (and the last); 0: none"},
-          {.name = "track",
-           .type = K::Other,
-           .type_text = "[integers]",
-           .default_text = "none",
+        {"output", SectionKind::Section, false, "outputs",
+         {{.name = "vtk_every", .type = K::Integer, .default_value = static_cast<long long>(MpmOutputSettings{}.vtk_every), .min = 0.0,
+           .allowed = "an integer >= 0 (0: no VTK output)", .doc = "VTK every n steps (and the last); 0: none"},
+          {.name = "track", .type = K::Other, .type_text = "[integers]", .default_text = "none",
            .doc = "point ids written to tracked_points.csv every step"},
-          {.name = "check",
-           .type = K::String,
-           .default_value = MpmOutputSettings{}.check,
-           .choices = {"", "column"},
+          {.name = "check", .type = K::String, .default_value = MpmOutputSettings{}.check, .choices = {"", "column"},
            .allowed = "\"column\" (or no key)",
            .doc = "`column`: compare with the column closed form (one Hencky material, nu = 0, one box body, gravity "
                   "along the last axis)"},
-          {.name = "plot",
-           .type = K::Boolean,
-           .default_value = MpmOutputSettings{}.plot,
-           .doc = "with check = \"column\": write column.png"}}},
+          {.name = "plot", .type = K::Boolean, .default_value = MpmOutputSettings{}.plot, .doc = "with check = \"column\": write column.png"}}},
         gradient_section(),
     };
   }();
@@ -372,5 +201,7 @@ const SectionSpec& mpm_section(const std::string& name) {
     if (s.name == name) return s;
   throw std::logic_error("no MPM section " + name);
 }
+
+// clang-format on
 
 }  // namespace gradmpm

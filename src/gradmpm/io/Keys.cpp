@@ -32,18 +32,8 @@ std::string cell(std::string s) {
 }  // namespace
 
 std::string KeySpec::type_name() const {
-  switch (type) {
-    case KeyType::Number:
-      return "number";
-    case KeyType::Integer:
-      return "integer";
-    case KeyType::String:
-      return "string";
-    case KeyType::Boolean:
-      return "boolean";
-    default:
-      return type_text;
-  }
+  static constexpr const char* plain[] = {"number", "integer", "string", "boolean"};
+  return type == KeyType::Other ? type_text : plain[static_cast<int>(type)];
 }
 
 std::string KeySpec::default_name() const {

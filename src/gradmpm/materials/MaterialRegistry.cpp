@@ -16,31 +16,19 @@ void register_builtins(MaterialRegistry& registry) {
   registry.add(von_mises_info());
 }
 
+// A table of keys, one per line or two (laid out by hand).
+// clang-format off
 std::vector<KeySpec> isotropic_elasticity_keys() {
   return {
-      {.name = "young",
-       .type = KeyType::Number,
-       .min = 0.0,
-       .min_open = true,
-       .allowed = "a Young's modulus > 0",
+      {.name = "young", .type = KeyType::Number, .min = 0.0, .min_open = true, .allowed = "a Young's modulus > 0",
        .doc = "Young's modulus E"},
-      {.name = "poisson",
-       .type = KeyType::Number,
-       .default_value = 0.0,
-       .min = -1.0,
-       .max = 0.5,
-       .min_open = true,
-       .max_open = true,
-       .allowed = "a Poisson's ratio in (-1, 0.5)",
-       .doc = "Poisson's ratio nu"},
-      {.name = "density",
-       .type = KeyType::Number,
-       .default_value = 0.0,
-       .min = 0.0,
-       .allowed = "a density >= 0",
+      {.name = "poisson", .type = KeyType::Number, .default_value = 0.0, .min = -1.0, .max = 0.5, .min_open = true,
+       .max_open = true, .allowed = "a Poisson's ratio in (-1, 0.5)", .doc = "Poisson's ratio nu"},
+      {.name = "density", .type = KeyType::Number, .default_value = 0.0, .min = 0.0, .allowed = "a density >= 0",
        .doc = "reference mass density rho_0 (body force m_p g)"},
   };
 }
+// clang-format on
 
 ElasticSolid read_elastic_solid(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) {
   auto key = [&](const char* name) -> const KeySpec& {

@@ -96,22 +96,15 @@ void VonMises::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
 
 MaterialInfo von_mises_info() {
   std::vector<KeySpec> keys = isotropic_elasticity_keys();
-  keys.push_back({.name = "yield_stress",
-                  .type = KeyType::Number,
-                  .min = 0.0,
-                  .min_open = true,
-                  .allowed = "a yield stress > 0",
-                  .doc = "sigma_y0, the initial uniaxial yield stress (c = sigma_y0 / sqrt 3)"});
-  keys.push_back({.name = "hardening",
-                  .type = KeyType::Number,
-                  .default_value = 0.0,
+  // A table of keys (laid out by hand).
+  // clang-format off
+  keys.push_back({.name = "yield_stress", .type = KeyType::Number, .min = 0.0, .min_open = true,
+                  .allowed = "a yield stress > 0", .doc = "sigma_y0, the initial uniaxial yield stress (c = sigma_y0 / sqrt 3)"});
+  keys.push_back({.name = "hardening", .type = KeyType::Number, .default_value = 0.0,
                   .doc = "H = d sigma_y / d eps_p, linear isotropic; negative: softening"});
-  keys.push_back({.name = "residual_yield_stress",
-                  .type = KeyType::Number,
-                  .default_value = 0.0,
-                  .min = 0.0,
-                  .allowed = "a residual yield stress >= 0",
-                  .doc = "the yield stress softening stops at (H < 0); at most yield_stress"});
+  keys.push_back({.name = "residual_yield_stress", .type = KeyType::Number, .default_value = 0.0, .min = 0.0,
+                  .allowed = "a residual yield stress >= 0", .doc = "the yield stress softening stops at (H < 0); at most yield_stress"});
+  // clang-format on
   return {
       "von-mises", "finite-strain von Mises elasto-plasticity, linear hardening or softening", keys,
       [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) -> std::shared_ptr<const Material> {
