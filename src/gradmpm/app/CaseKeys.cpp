@@ -157,7 +157,9 @@ const std::vector<SectionSpec>& mpm_sections() {
          {{.name = "gravity", .type = K::Other, .type_text = dimvec, .default_text = "zero",
            .doc = "acceleration at load factor 1; body force m_p g"}}},
         {"constraints", SectionKind::Array, false, "grid-node constraints",
-         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
+         {{.name = "name", .type = K::String, .default_text = "none",
+           .doc = "names the node set: its reaction and mean displacement go to reactions.csv every step (blocks of one name form one set)"},
+          {.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
            .doc = "node set: a grid face"},
           {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
            .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
@@ -189,7 +191,7 @@ const std::vector<SectionSpec>& mpm_sections() {
            .allowed = "\"column\" (or no key)",
            .doc = "`column`: compare with the column closed form (one Hencky material, nu = 0, one box body, gravity "
                   "along the last axis)"},
-          {.name = "plot", .type = K::Boolean, .default_value = MpmOutputSettings{}.plot, .doc = "with check = \"column\": write column.png"}}},
+          {.name = "plot", .type = K::Boolean, .default_value = MpmOutputSettings{}.plot, .doc = "write the figures: column.png (check = \"column\"), load_displacement.png (named constraints)"}}},
         gradient_section(),
     };
   }();

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -195,11 +196,23 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     cf.require(!comps.empty(), k + ".fix", "at least one component to hold");
     Vec<dim> disp = Vec<dim>::Zero();
     if (cf.has(k + ".displacement")) disp = vec<dim>(cf, k + ".displacement");
+    // A named block reports its reaction (reactions.csv); blocks of one name form one set.
+    NamedNodeSet* named = nullptr;
+    if (cf.has(k + ".name")) {
+      const std::string name = read_string(cf, k, mpm_section("constraints").key("name"));
+      cf.require(!name.empty() && name.find_first_of(",\n\"") == std::string::npos, k + ".name",
+                 "a name without commas, quotes or newlines");
+      for (auto& s : m.node_sets)
+        if (s.name == name) named = &s;
+      if (!named) named = &m.node_sets.emplace_back(NamedNodeSet{name, {}});
+    }
     int selected = 0;
     for (int node = 0; node < m.grid.num_nodes(); ++node) {
       if (!sel.contains(m.grid.node_position(node), tol)) continue;
       ++selected;
       for (int comp : comps) m.constraints.push_back({node, comp, disp[comp]});
+      if (named && std::find(named->nodes.begin(), named->nodes.end(), node) == named->nodes.end())
+        named->nodes.push_back(node);
     }
     cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");
   }

@@ -1,7 +1,8 @@
 // Runs an MPM case: reads it (app/MpmCaseReader.cpp), solves it with the gradient step
 // as a post-step stage of the driver, and writes the outputs, each file all or nothing:
 //   points_NNNN.vtu, grid_NNNN.vtu, points.pvd, grid.pvd   every output.vtk_every steps
-//   newton_history.csv, tracked_points.csv                 after every step
+//   newton_history.csv, tracked_points.csv, reactions.csv  after every step
+//   load_displacement.png                                  at the end, with named constraints
 //   points_final.csv, points_gradient.csv                  at the end
 //   column_check.csv, column.png                           with output.check = "column"
 #include <fmt/format.h>
@@ -11,6 +12,8 @@
 #include "gradmpm/app/PointColumns.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Timer.hpp"
+#include "gradmpm/io/EmbeddedScripts.hpp"
+#include "gradmpm/io/Python.hpp"
 #include "gradmpm/io/StagedOutputs.hpp"
 #include "gradmpm/io/Vtk.hpp"
 
@@ -78,6 +81,31 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
     out.write_text("grid.pvd", pvd(pvd_grid));
     out.commit();
   };
+  // Named constraint blocks: reaction (sum over the nodes) and mean displacement (the
+  // nodes' increments summed over the steps).
+  std::string reactions = "step,load,name,rx,ry,rz,ux,uy,uz\n";
+  std::vector<Vec<dim>> block_u(m.node_sets.size(), Vec<dim>::Zero());
+  auto react = [&](const StepInfo& info) {
+    if (m.node_sets.empty()) return;
+    const Vector R = info.grid_reaction(), du = info.grid_displacement();
+    for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
+      const auto& set = m.node_sets[b];
+      Vec<dim> r = Vec<dim>::Zero(), mean = Vec<dim>::Zero();
+      for (int n : set.nodes)
+        for (int d = 0; d < dim; ++d) {
+          r[d] += R[n * dim + d];
+          mean[d] += du[n * dim + d];
+        }
+      block_u[b] += mean / static_cast<double>(set.nodes.size());
+      double rv[3] = {0, 0, 0}, uv[3] = {0, 0, 0};
+      for (int d = 0; d < dim; ++d) {
+        rv[d] = r[d];
+        uv[d] = block_u[b][d];
+      }
+      fmt::format_to(std::back_inserter(reactions), "{},{},{},{},{},{},{},{},{}\n", info.step, info.load_factor,
+                     set.name, rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
+    }
+  };
   auto track = [&](int step, double lambda) {
     PointColumns<dim>(m, nullptr).append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
   };
@@ -93,12 +121,14 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       for (std::size_t k = 0; k < info.residuals.size(); ++k)
         fmt::format_to(std::back_inserter(history), "{},{},{},{}\n", info.step, info.load_factor, k, info.residuals[k]);
       track(info.step, info.load_factor);
+      react(info);
       classical_seconds += info.seconds;
       if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
         write_vtk(info.step, info.load_factor, &info);
       StagedOutputs out(dir);
       out.write_text("newton_history.csv", history);
       if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
+      if (!m.node_sets.empty()) out.write_text("reactions.csv", reactions);
       out.commit();
       if (!quiet) print_step<dim>(info);
     });
@@ -115,6 +145,14 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
     if (!quiet)
       fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps,
                  summary.total_iterations, summary.cuts, seconds_since(t0));
+    if (!m.node_sets.empty() && output.plot) {
+      StagedOutputs out(dir);
+      const auto csv = out.write_text("reactions.csv", reactions);
+      const auto png = out.stage("load_displacement.png");
+      run_python_script(embedded::plot_load_displacement_py,
+                        {csv.string(), png.string(), fmt::format("{}D MPM, {} load steps", dim, summary.steps)});
+      out.commit();
+    }
     if (output.check == "column") {
       const std::string line = column_check(m, dir, output.plot);
       if (!quiet) fmt::print("  {}\n", line);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gradmpm/basis/BasisKind.hpp"
@@ -22,6 +23,12 @@ struct NodalConstraint {
   double total = 0.0;
 };
 
+/// Grid nodes whose reaction force and displacement are reported (a named [[constraints]] block).
+struct NamedNodeSet {
+  std::string name;
+  std::vector<int> nodes;
+};
+
 template <int dim>
 struct Model {
   Grid<dim> grid;
@@ -30,6 +37,7 @@ struct Model {
   BasisKind basis = BasisKind::MPM;
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
   std::vector<NodalConstraint> constraints;
+  std::vector<NamedNodeSet> node_sets;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}
 
@@ -116,11 +124,14 @@ struct StepInfo {
   /// steps they write); valid during the post-step stages and the observer call only.
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
   std::function<Vector()> grid_mass;          ///< nodal mass sum_p N_i m_p (eq. 1)
-  double seconds = 0.0;                       ///< the load step, its cuts included, without the post-step stages
-  double stage_seconds = 0.0;                 ///< the post-step stages
-  PhaseTimes phases;                          ///< of the converged attempt
-  int dofs = 0;                               ///< equations of the step
-  long nonzeros = 0;                          ///< entries of the tangent
+  /// f_int - f_ext at the converged iterate at every grid node (dim per node): the
+  /// reaction forces on constrained components (~0 elsewhere; zero on inactive nodes).
+  std::function<Vector()> grid_reaction;
+  double seconds = 0.0;        ///< the load step, its cuts included, without the post-step stages
+  double stage_seconds = 0.0;  ///< the post-step stages
+  PhaseTimes phases;           ///< of the converged attempt
+  int dofs = 0;                ///< equations of the step
+  long nonzeros = 0;           ///< entries of the tangent
 };
 
 }  // namespace gradmpm

@@ -198,16 +198,20 @@ class LoadStep {
     std::vector<double>().swap(weights_);
   }
 
-  /// The increment du at every grid node (dim values per node; zero on inactive nodes).
-  Vector grid_displacement(const Vector& du) const {
+  void keep_converged_force(const Vector& f_int) { f_int_converged_ = f_int; }
+
+  /// A vector in equation numbering at every grid node (dim values per node; zero on
+  /// inactive nodes): the increment du, or the reactions f_int - f_ext.
+  Vector on_grid(const Vector& v) const {
     const int nn = model_.grid.num_nodes();
     Vector u = Vector::Zero(static_cast<Eigen::Index>(nn) * dim);
     for (int i = 0; i < dim; ++i) {
-      const Vector gi = dofs_.to_grid(du, i);
+      const Vector gi = dofs_.to_grid(v, i);
       for (int n = 0; n < nn; ++n) u[n * dim + i] = gi[n];
     }
     return u;
   }
+  Vector grid_reaction() const { return on_grid(f_int_converged_ - f_ext_); }
 
   /// Nodal mass sum_p N_i m_p at every grid node.
   Vector grid_mass() const {
@@ -228,6 +232,7 @@ class LoadStep {
   Vector f_ext_;
   std::vector<MaterialResponse> response_;
   std::vector<double> trial_state_;  ///< the state block of the current iterate
+  Vector f_int_converged_;           ///< f_int at the converged iterate (reactions)
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
   std::vector<double> weights_;
 };
@@ -263,7 +268,10 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
     }
     residuals.push_back(err);
     if (!std::isfinite(err)) throw StepFailure{"the out-of-balance force is not finite"};
-    if (err < settings.tolerance) return du;
+    if (err < settings.tolerance) {
+      step.keep_converged_force(f_int);
+      return du;
+    }
     if (it == settings.max_iterations)
       throw StepFailure{fmt::format("no convergence in {} iterations (residual {:.3e})", it, err)};
     if (it >= 2 && err > 1e6 * std::max(residuals.front(), settings.tolerance))
@@ -356,7 +364,8 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.increment = dlambda;
     info.seconds = seconds_since(t0);
     info.last = lambda >= 1.0;
-    info.grid_displacement = [&] { return step->grid_displacement(du); };
+    info.grid_displacement = [&] { return step->on_grid(du); };
+    info.grid_reaction = [&] { return step->grid_reaction(); };
     info.grid_mass = [&] { return step->grid_mass(); };
     summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
     const auto t_stages = Clock::now();
