@@ -1,4 +1,5 @@
-// Requirements on finite-strain von Mises plasticity (materials/VonMises.hpp):
+// Requirements on finite-strain von Mises and Drucker-Prager plasticity
+// (materials/VonMises.hpp, materials/DruckerPrager.hpp):
 //  R1 after a plastic return the stress is on the yield surface, q(tau) = sigma_y(kappa),
 //     to 1e-10 relative, with kappa grown by the plastic multiplier; inside the surface
 //     the update is Hencky's;
@@ -15,13 +16,19 @@
 //     strip load on a block): residual ratios log r_k+1 / log r_k >= 1.8 once r_k < 1e-3
 //     (and r_k+1 above the round-off floor, 1e-12);
 //  R6 the law is read from a case file with its own keys and ranges, and eps_p reaches
-//     points_final.csv by name.
+//     points_final.csv by name;
+//  R7 Drucker-Prager: returns end on the cone (Phi = 0 to 1e-10) or at its apex
+//     (s = 0, p = xi c / eta), both regions reached; the tangent matches central
+//     differences (1e-6) on the cone and at the apex, associated or not, hardening or
+//     softening; it is symmetric exactly when psi = phi, and the non-associated law then
+//     runs in the MPM through linear_solver.general with quadratic convergence.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
+#include <numbers>
 
 #include <unistd.h>
 
@@ -30,6 +37,7 @@
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
+#include "gradmpm/materials/DruckerPrager.hpp"
 #include "gradmpm/materials/VonMises.hpp"
 #include "gradmpm/points/Generate.hpp"
 
@@ -255,4 +263,97 @@ TEST(VonMises, ReadFromACaseFileWithItsKeysAndWritesEpsP) {
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,eps_p");
   std::filesystem::remove_all(dir);
+}
+
+namespace {
+DruckerPrager dp(double phi, double psi, double H = 0.0, double residual = 0.0, const char* fit = "plane-strain") {
+  return DruckerPrager(IsotropicElasticity(kE, kNu), 1.0, {5.0, phi, psi, fit, H, residual});
+}
+double dp_yield(const DruckerPrager& m, const Mat3& tau, double kappa) {
+  const Mat3 s = tau - tau.trace() / 3.0 * Mat3::Identity();
+  return std::sqrt(0.5 * (s.array() * s.array()).sum()) + m.eta() * tau.trace() / 3.0 - m.xi() * m.cohesion(kappa);
+}
+Mat3 dilating_increment() {  // strong volumetric expansion: the return goes to the apex
+  Mat3 dF = 1.03 * Mat3::Identity();
+  dF(0, 1) = 0.002;
+  return dF;
+}
+}  // namespace
+
+TEST(DruckerPrager, ReturnsEndOnTheConeOrAtTheApex) {
+  for (const auto& [phi, psi] : {std::pair{30.0, 30.0}, std::pair{30.0, 10.0}, std::pair{30.0, 0.0}}) {
+    const DruckerPrager m = dp(phi, psi, 50.0);
+    const auto cone = test::respond(m, plastic_increment(), state(history_strain(), 0.0));
+    ASSERT_GT(cone.state[6], 0.0) << "plastic";
+    EXPECT_LT(std::abs(dp_yield(m, cone.r.stress, cone.state[6])), 1e-10 * m.xi() * m.cohesion(0.0))
+        << phi << "/" << psi;
+    const auto apex = test::respond(m, dilating_increment(), state(Mat3::Zero(), 0.0));
+    const Mat3 s = apex.r.stress - apex.r.stress.trace() / 3.0 * Mat3::Identity();
+    EXPECT_LT(s.norm(), 1e-10 * m.cohesion(0.0)) << "at the apex the deviator vanishes";
+    EXPECT_NEAR(apex.r.stress.trace() / 3.0, m.xi() / m.eta() * m.cohesion(apex.state[6]), 1e-10 * m.cohesion(0.0));
+    if (psi > 0.0) EXPECT_GT(apex.state[6], 0.0) << "plastic volume change hardens";
+  }
+  for (const char* fit : {"outer", "inner"}) {  // the Mohr-Coulomb fits: eta = 6 sin phi / (sqrt 3 (3 -+ sin phi))
+    const double s = std::sin(30.0 * std::numbers::pi / 180.0);
+    const double expected = 6.0 * s / (std::sqrt(3.0) * (std::string(fit) == "outer" ? 3.0 - s : 3.0 + s));
+    EXPECT_NEAR(dp(30.0, 30.0, 0.0, 0.0, fit).eta(), expected, 1e-15) << fit;
+  }
+}
+
+TEST(DruckerPrager, TangentMatchesFiniteDifferencesOnTheConeAndAtTheApex) {
+  struct Case {
+    const char* what;
+    double phi, psi, H, residual, kappa_n;
+    Mat3 dF, eps_n;
+  };
+  const std::vector<Case> cases = {
+      {"cone, associated", 30.0, 30.0, 0.0, 0.0, 0.0, plastic_increment(), history_strain()},
+      {"cone, psi = 10", 30.0, 10.0, 80.0, 0.0, 0.0, plastic_increment(), history_strain()},
+      {"cone, psi = 0, softening", 30.0, 0.0, -20.0, 1.0, 0.01, plastic_increment(), history_strain()},
+      {"apex, associated, hardening", 30.0, 30.0, 80.0, 0.0, 0.0, dilating_increment(), Mat3::Zero()},
+      {"apex, psi = 15", 30.0, 15.0, 0.0, 0.0, 0.0, dilating_increment(), Mat3::Zero()},
+  };
+  for (const auto& c : cases) {
+    const DruckerPrager m = dp(c.phi, c.psi, c.H, c.residual);
+    const auto s = state(c.eps_n, c.kappa_n);
+    const Mat9 A = test::tangent_of(m, c.dF, s);
+    const Mat9 Afd = test::finite_difference_tangent(m, c.dF, s, 1e-7);
+    const double err = (A - Afd).cwiseAbs().maxCoeff() / A.cwiseAbs().maxCoeff();
+    const double asym = (A - A.transpose()).cwiseAbs().maxCoeff() / A.cwiseAbs().maxCoeff();
+    std::cout << c.what << ": max |A - A_fd| / max |A| = " << err << ", asymmetry " << asym << "\n";
+    EXPECT_LT(err, 1e-6) << c.what;
+    EXPECT_EQ(m.symmetric_tangent(), c.psi == c.phi);
+    if (c.psi == c.phi)
+      EXPECT_LT(asym, 1e-12) << c.what;
+    else if (std::string(c.what).rfind("cone", 0) == 0)
+      EXPECT_GT(asym, 1e-3) << c.what << ": non-associated flow on the cone";
+  }
+}
+
+TEST(DruckerPrager, NonAssociatedLawRunsThroughTheGeneralSolverWithQuadraticConvergence) {
+  std::string text = strip_load_case();
+  const std::string vm = "model = \"von-mises\"\nyoung = 1000.0\npoisson = 0.3\nyield_stress = 10.0\nhardening = 50.0";
+  text.replace(text.find(vm), vm.size(),
+               "model = \"drucker-prager\"\nyoung = 1000.0\npoisson = 0.3\ncohesion = 4.0\nfriction_angle = 25.0\n"
+               "dilation_angle = 0.0");
+  CaseFile cf = CaseFile::parse(text, "strip.toml");
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  ASSERT_FALSE(c.model.symmetric_tangent());
+  double worst = 10.0;
+  int checked = 0;
+  run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo& info) {
+    const auto& r = info.residuals;
+    for (std::size_t k = 1; k + 1 < r.size(); ++k)
+      if (r[k] < 1e-3 && r[k + 1] > 1e-12) {
+        worst = std::min(worst, std::log(r[k + 1]) / std::log(r[k]));
+        ++checked;
+      }
+  });
+  double kappa = 0.0;
+  for (int p = 0; p < c.model.points.size(); ++p) kappa = std::max(kappa, c.model.points.state_of(p)[6]);
+  std::cout << "non-associated Drucker-Prager strip load: max eps_p " << kappa << ", worst log-ratio " << worst
+            << " over " << checked << " iterations\n";
+  EXPECT_GT(kappa, 0.0);
+  EXPECT_GT(checked, 3);
+  EXPECT_GE(worst, 1.8);
 }

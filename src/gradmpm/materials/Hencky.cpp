@@ -23,14 +23,9 @@ void Hencky::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
   // apart) and c_ab = mu theta_ab, theta the divided difference of ln (tau_a - tau_b =
   // mu (ln l_a - ln l_b)).
   const ElasticTrial trial = load_trial(r);
-  const Mat3& n = trial.directions;
   const double mu = elasticity().mu;
-  Eigen::Vector3d tau;  // principal Kirchhoff stresses
-  for (int a = 0; a < 3; ++a) tau[a] = n.col(a).dot(r.stress * n.col(a));
-  const Eigen::Vector3d& l = trial.stretch2;
-  const Eigen::Vector3d spin(mu * log_divided_difference(l[0], l[1]), mu * log_divided_difference(l[0], l[2]),
-                             mu * log_divided_difference(l[1], l[2]));
-  spectral_tangent(trial, tau, elasticity().lambda, 2.0 * mu * Mat3::Identity(), spin, dim, A);
+  spectral_tangent(trial, principal_values(r.stress, trial), elasticity().lambda, 2.0 * mu * Mat3::Identity(),
+                   spin_coefficients(trial, mu), dim, A);
 }
 
 MaterialInfo hencky_info() {

@@ -4,16 +4,20 @@
 
 #include <stdexcept>
 
+#include "gradmpm/io/CaseFile.hpp"
+
 namespace gradmpm {
 
 MaterialInfo linear_elastic_info();  // materials/LinearElastic.cpp
 MaterialInfo hencky_info();          // materials/Hencky.cpp
 MaterialInfo von_mises_info();       // materials/VonMises.cpp
+MaterialInfo drucker_prager_info();  // materials/DruckerPrager.cpp
 
 void register_builtins(MaterialRegistry& registry) {
   registry.add(hencky_info());
   registry.add(linear_elastic_info());
   registry.add(von_mises_info());
+  registry.add(drucker_prager_info());
 }
 
 // A table of keys, one per line or two (laid out by hand).
@@ -30,14 +34,19 @@ std::vector<KeySpec> isotropic_elasticity_keys() {
 }
 // clang-format on
 
+const KeySpec& LawKeys::spec(const std::string& name) const {
+  for (const auto& k : self.keys)
+    if (k.name == name) return k;
+  throw std::logic_error(self.model + " declares no key " + name);
+}
+
+void LawKeys::require(bool ok, const std::string& name, const std::string& expected) const {
+  cf.require(ok, prefix + "." + name, expected);
+}
+
 ElasticSolid read_elastic_solid(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) {
-  auto key = [&](const char* name) -> const KeySpec& {
-    for (const auto& k : self.keys)
-      if (k.name == name) return k;
-    throw std::logic_error(self.model + " declares no key " + name);
-  };
-  const double E = read_number(cf, prefix, key("young")), nu = read_number(cf, prefix, key("poisson"));
-  return {IsotropicElasticity(E, nu), read_number(cf, prefix, key("density"))};
+  const LawKeys in{cf, prefix, self};
+  return {IsotropicElasticity(in.number("young"), in.number("poisson")), in.number("density")};
 }
 
 }  // namespace gradmpm

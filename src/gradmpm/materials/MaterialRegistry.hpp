@@ -33,6 +33,18 @@ struct ElasticSolid {
 /// Reads young, poisson and density from `prefix` with `self`'s specs of them.
 ElasticSolid read_elastic_solid(const CaseFile& cf, const std::string& prefix, const MaterialInfo& self);
 
+/// A law's keys read by name, with the law's own specs (defaults, ranges, messages).
+struct LawKeys {
+  const CaseFile& cf;
+  const std::string& prefix;  ///< "materials.soil"
+  const MaterialInfo& self;
+  const KeySpec& spec(const std::string& name) const;
+  double number(const std::string& name) const { return read_number(cf, prefix, spec(name)); }
+  std::string string(const std::string& name) const { return read_string(cf, prefix, spec(name)); }
+  /// InputError on `prefix.name` unless ok.
+  void require(bool ok, const std::string& name, const std::string& expected) const;
+};
+
 class MaterialRegistry : public Registry<MaterialRegistry, MaterialInfo, &MaterialInfo::model> {
  public:
   std::string quoted_names() const {  ///< "\"hencky\" or \"linear-elastic\""

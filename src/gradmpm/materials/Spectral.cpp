@@ -66,6 +66,18 @@ void spectral_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, dou
     for (int k = 0; k < dim; ++k) A(at(i, i), at(k, k)) += iso;
 }
 
+Eigen::Vector3d principal_values(const Mat3& t, const ElasticTrial& trial) {
+  Eigen::Vector3d v;
+  for (int a = 0; a < 3; ++a) v[a] = trial.directions.col(a).dot(t * trial.directions.col(a));
+  return v;
+}
+
+Eigen::Vector3d spin_coefficients(const ElasticTrial& trial, double scale) {
+  const Eigen::Vector3d& l = trial.stretch2;
+  return {scale * log_divided_difference(l[0], l[1]), scale * log_divided_difference(l[0], l[2]),
+          scale * log_divided_difference(l[1], l[2])};
+}
+
 void store_trial(const ElasticTrial& t, MaterialResponse& r) {
   Eigen::Map<Eigen::Vector3d>(r.cache.data()) = t.stretch2;
   Eigen::Map<Mat3>(r.cache.data() + 3) = t.directions;

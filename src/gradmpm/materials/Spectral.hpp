@@ -41,7 +41,15 @@ double log_divided_difference(double a, double b);
 void spectral_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, double iso, const Mat3& D,
                       const Eigen::Vector3d& spin, int dim, Mat9& A);
 
-/// The first 12 entries of a response cache: the trial l_a, then n_a.
+/// tau_a = n_a . t . n_a: the principal values of t in the trial's frame.
+Eigen::Vector3d principal_values(const Mat3& t, const ElasticTrial& trial);
+
+/// (c_01, c_02, c_12) = scale * theta_ab, theta the divided difference of ln of the l_a:
+/// the spin terms of laws with tau_a - tau_b = scale (ln l_a - ln l_b).
+Eigen::Vector3d spin_coefficients(const ElasticTrial& trial, double scale);
+
+/// The first kTrialCacheSize entries of a response cache: the trial l_a, then n_a.
+inline constexpr int kTrialCacheSize = 12;
 void store_trial(const ElasticTrial& t, MaterialResponse& r);
 ElasticTrial load_trial(const MaterialResponse& r);
 

@@ -13,7 +13,7 @@
 // enters the spectral tangent of materials/Spectral.hpp with spin terms mu beta theta_ab:
 // Newton converges quadratically in plastic steps. Associated flow: symmetric tangent.
 // State: elastic_strain (eps_e), eps_p (kappa).
-#include "gradmpm/materials/Material.hpp"
+#include "gradmpm/materials/PlasticLaw.hpp"
 
 namespace gradmpm {
 
@@ -23,22 +23,17 @@ struct VonMisesParameters {
   double residual_yield_stress = 0.0;  ///< the floor softening stops at
 };
 
-class VonMises final : public Material {
+class VonMises final : public PlasticLaw {
  public:
   VonMises(const IsotropicElasticity& e, double rho, const VonMisesParameters& p);
   std::string model() const override { return "von-mises"; }
-  bool finite_strain() const override { return true; }
-  const std::vector<StateVariable>& state_variables() const override;
   void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override;
   void tangent(const MaterialResponse& r, int dim, Mat9& A) const override;
-  Mat3 elastic_strain(const double* state) const override;
-
   /// sigma_y(kappa), and whether the residual floor holds it.
-  double yield_stress(double kappa, bool* at_floor = nullptr) const;
-  const VonMisesParameters& parameters() const { return p_; }
+  double yield_stress(double kappa, bool* at_floor = nullptr) const { return yield_.at(kappa, at_floor); }
 
  private:
-  VonMisesParameters p_;
+  LinearStrength yield_;
 };
 
 }  // namespace gradmpm
