@@ -153,6 +153,9 @@ const std::vector<SectionSpec>& mpm_sections() {
            .allowed = "an integer from 1 to 8 (points per cell and direction)",
            .doc = "points per cell and direction, at sub-cell centres (volume = sub-cell volume), kept where they fall "
                   "inside the body"}}},
+        {"mpm", SectionKind::Section, false, "options of the MPM itself",
+         {{.name = "fbar", .type = K::Boolean, .default_value = false,
+           .doc = "F-bar against volumetric locking (Coombs et al. 2018): the points of a cell share its volume change; finite-strain laws only; non-symmetric tangent"}}},
         {"loads", SectionKind::Section, false, "body forces",
          {{.name = "gravity", .type = K::Other, .type_text = dimvec, .default_text = "zero",
            .doc = "acceleration at load factor 1; body force m_p g"}}},

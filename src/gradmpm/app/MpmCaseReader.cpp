@@ -156,6 +156,12 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
                "a body holding at least one material point (it is smaller than a sub-cell)");
   }
 
+  // --- F-bar
+  m.fbar = read_boolean(cf, "mpm", mpm_section("mpm").key("fbar"));
+  for (const auto& mat : m.materials)
+    cf.require(!m.fbar || mat->finite_strain(), "mpm.fbar",
+               fmt::format("false with the small-strain model \"{}\" (F-bar needs finite-strain laws)", mat->model()));
+
   // --- loads
   if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/mpm/FBar.hpp"
 #include "gradmpm/mpm/Model.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
@@ -44,9 +45,10 @@ class LoadStep {
  public:
   LoadStep(const Model<dim>& m, double lambda_end, double dlambda)
       : model_(m),
-        st_(evaluate_stencils(m.grid, m.points, m.basis)),
+        st_(stencils(m)),
         dofs_(st_, m.grid.num_nodes(), dim),
-        pattern_(build_pattern(st_, dofs_)),
+        fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
+        pattern_(fbar_ ? build_pattern(fbar_->nodes(), dofs_) : build_pattern(st_, dofs_)),
         assembler_(st_, m.points, dofs_, &m.grid),
         response_(m.points.size()),
         trial_state_(m.points.state.size()) {
@@ -80,6 +82,7 @@ class LoadStep {
   /// run on OpenMP threads; f_int is scattered by buckets of points with disjoint nodes
   /// (Assembler::for_each_point_disjoint), so the result does not depend on the threads.
   void internal_force(const Vector& du, Vector& f_int) {
+    if (fbar_) return internal_force_fbar(du, f_int);
     const auto& pts = model_.points;
     const int np = pts.size();
     f_int = Vector::Zero(dofs_.num_dofs());
@@ -119,6 +122,11 @@ class LoadStep {
       }
     }
     if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
+    scatter_internal_force(f_int);
+  }
+
+  /// f_int,i = sum_p w_p stress_p grad N_i, by buckets of points with disjoint nodes.
+  void scatter_internal_force(Vector& f_int) const {
     assembler_.for_each_point_disjoint([&](int p) {
       const Stencil<dim>& s = st_[p];
       const auto& G = grads_[p];
@@ -134,13 +142,15 @@ class LoadStep {
 
   /// The tangent K at the state of the last internal_force(): each point's material
   /// tangent is formed inside the (coloured, threaded) scatter-add and never stored.
-  void stiffness(SparseMatrix& K) const {
+  void stiffness(SparseMatrix& K) {
     K = pattern_;
+    if (fbar_) fbar_q_.resize(model_.points.size());
     assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
       // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
       const auto& G = grads_[p];
       Mat9 A;
       model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
+      if (fbar_) fbar_local_tangent(p, A);
       const double w = weights_[p];
       for (int b = 0; b < s.count; ++b) {
         double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
@@ -160,6 +170,7 @@ class LoadStep {
             }
       }
     });
+    if (fbar_) add_fbar_coupling(K);
   }
 
   /// Eq. (2): maps the converged increment to the points and updates their state.
@@ -174,7 +185,12 @@ class LoadStep {
       const double J = pts.F[p].determinant();
       pts.volume[p] = J * pts.original_volume[p];
       const MaterialResponse& r = response_[p];
-      pts.stress[p] = m.material_of(p).finite_strain() ? Mat3(r.stress / J) : r.stress;
+      if (fbar_) {  // sigma = tau(Fbar) / Jbar
+        pts.fbar_jacobian[p] *= fbar_dJbar_[p];
+        pts.stress[p] = r.stress / pts.fbar_jacobian[p];
+      } else {
+        pts.stress[p] = m.material_of(p).finite_strain() ? Mat3(r.stress / J) : r.stress;
+      }
       if (m.basis == BasisKind::CPGIMP)
         for (int d = 0; d < dim; ++d) pts.half_length[p][d] = pts.original_half_length[p][d] * pts.F[p].col(d).norm();
     }
@@ -222,9 +238,104 @@ class LoadStep {
   }
 
  private:
+  /// The points' stencils at x_n. With F-bar, without the nodes they reach only by a
+  /// sliver (drop_weak_nodes: support below 1e-8 of a cell's volume): F-bar takes the
+  /// volumetric stiffness a lone point gives such a node away, and the tangent turned
+  /// singular there (docs/plasticity.md). Without F-bar the stencils are untouched.
+  static PointStencils<dim> stencils(const Model<dim>& m) {
+    PointStencils<dim> st = evaluate_stencils(m.grid, m.points, m.basis);
+    if (m.fbar) drop_weak_nodes(st, m.points, m.grid.num_nodes(), m.grid.cell_size().prod(), 1e-8);
+    return st;
+  }
+
+  /// internal_force with F-bar (mpm/FBar.hpp): dJ of every point, dJbar of its cell, the
+  /// update with dFbar, gradients of the actual dF, weights (v_n / Jbar_n) dJ / dJbar.
+  void internal_force_fbar(const Vector& du, Vector& f_int) {
+    const auto& pts = model_.points;
+    const int np = pts.size();
+    f_int = Vector::Zero(dofs_.num_dofs());
+    grads_.resize(np);
+    weights_.resize(np);
+    fbar_dF_.resize(np);
+    fbar_dJ_.resize(np);
+    for (int p = 0; p < np; ++p) {
+      fbar_dF_[p] = Mat3::Identity() + increment_gradient(st_[p], dofs_, du);
+      fbar_dJ_[p] = fbar_dF_[p].determinant();
+      if (!(fbar_dJ_[p] > 0.0)) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", p, fbar_dJ_[p])};
+    }
+    fbar_->average(fbar_dJ_, fbar_dJbar_);
+#pragma omp parallel for schedule(static) if (use_threads(np))
+    for (int p = 0; p < np; ++p) {
+      const Stencil<dim>& s = st_[p];
+      Mat3 dFbar = fbar_dF_[p];
+      dFbar.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
+      model_.material_of(p).update(dFbar, pts.state_of(p),
+                                   trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
+      const Mat3 inv = fbar_dF_[p].inverse();
+      auto& G = grads_[p];
+      for (int a = 0; a < s.count; ++a)
+        for (int l = 0; l < dim; ++l) {
+          double v = 0.0;
+          for (int m = 0; m < dim; ++m) v += s.dN[a][m] * inv(m, l);
+          G[a][l] = v;
+        }
+      weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
+    }
+    scatter_internal_force(f_int);
+  }
+
+  /// A -> A - Q (x) I (the local part of the F-bar tangent); keeps Q_p for the coupling.
+  void fbar_local_tangent(int p, Mat9& A) {
+    const Mat3& tau = response_[p].stress;
+    Mat3& Q = fbar_q_[p];
+    Q.setZero();
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j) {
+        double trace = 0.0;
+        for (int m = 0; m < dim; ++m) trace += A(3 * i + j, 3 * m + m);
+        Q(i, j) = trace / dim - (1.0 - 1.0 / dim) * tau(i, j);
+        for (int k = 0; k < dim; ++k) A(3 * i + j, 3 * k + k) -= Q(i, j);
+      }
+  }
+
+  /// The cell coupling of F-bar: K += U_c V_c^T per cell, U_c(a i) = sum_p W_p G_pa,j Q_p,ij,
+  /// V_c(b k) = sum_q beta_q G_qb,k over the cell's points, beta_q = w_q dJ_q / dJbar.
+  void add_fbar_coupling(SparseMatrix& K) const {
+    double* values = K.valuePtr();
+    for (std::size_t c = 0; c < fbar_->members().size(); ++c) {
+      const auto& nodes = fbar_->nodes()[c];
+      const int nn = static_cast<int>(nodes.size());
+      Eigen::VectorXd U = Eigen::VectorXd::Zero(nn * dim), V = Eigen::VectorXd::Zero(nn * dim);
+      for (int q : fbar_->members()[c]) {
+        const Stencil<dim>& s = st_[q];
+        const double beta = fbar_->weight(q) * fbar_dJ_[q] / fbar_dJbar_[q];
+        for (int a = 0; a < s.count; ++a) {
+          const int at = static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), s.node[a]) - nodes.begin());
+          for (int i = 0; i < dim; ++i) {
+            double u = 0.0;
+            for (int j = 0; j < dim; ++j) u += grads_[q][a][j] * fbar_q_[q](i, j);
+            U[at * dim + i] += weights_[q] * u;
+            V[at * dim + i] += beta * grads_[q][a][i];
+          }
+        }
+      }
+      for (int b = 0; b < nn; ++b)
+        for (int k = 0; k < dim; ++k) {
+          const int col = dofs_.dof(nodes[b], k);
+          for (int a = 0; a < nn; ++a) {
+            const int k0 = pattern_offset(K, dofs_.dof(nodes[a], 0), col);
+            for (int i = 0; i < dim; ++i) values[k0 + i] += U[a * dim + i] * V[b * dim + k];
+          }
+        }
+    }
+  }
+
   const Model<dim>& model_;
   PointStencils<dim> st_;
   DofMap dofs_;
+  std::unique_ptr<FBarCells<dim>> fbar_;
+  std::vector<Mat3> fbar_dF_, fbar_q_;
+  std::vector<double> fbar_dJ_, fbar_dJbar_;
   SparseMatrix pattern_;
   Assembler<dim> assembler_;
   std::vector<int> constrained_;

@@ -35,6 +35,7 @@ struct Model {
   MaterialPoints<dim> points;
   std::vector<std::shared_ptr<const Material>> materials;
   BasisKind basis = BasisKind::MPM;
+  bool fbar = false;                    ///< F-bar against volumetric locking (mpm/FBar.hpp); finite-strain laws only
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
   std::vector<NodalConstraint> constraints;
   std::vector<NamedNodeSet> node_sets;
@@ -59,8 +60,9 @@ struct Model {
     for (const auto& m : materials) stride = std::max(stride, m->state_size());
     return stride;
   }
-  /// false when some material's consistent tangent is not symmetric.
+  /// false when some material's consistent tangent is not symmetric (or F-bar is on).
   bool symmetric_tangent() const {
+    if (fbar) return false;
     for (const auto& m : materials)
       if (!m->symmetric_tangent()) return false;
     return true;

@@ -18,6 +18,7 @@ struct MaterialPoints {
   std::vector<int> material;                ///< index into the model's material list
   std::vector<Eigen::Matrix3d> F;           ///< deformation gradient (3x3 in every dim)
   std::vector<Eigen::Matrix3d> stress;      ///< Cauchy stress
+  std::vector<double> fbar_jacobian;  ///< Jbar, the volume ratio the material sees with F-bar (mpm/FBar.hpp); 1 without
   /// Every point's material history, state_stride values per point (the largest state
   /// of the model's materials; see Material::state_variables). Model::initialise_state
   /// sizes and fills it.
@@ -41,6 +42,7 @@ struct MaterialPoints {
     material.push_back(mat);
     F.push_back(Eigen::Matrix3d::Identity());
     stress.push_back(Eigen::Matrix3d::Zero());
+    fbar_jacobian.push_back(1.0);
     half_length.push_back(lp);
     original_half_length.push_back(lp);
     force.push_back(Vec<dim>::Zero());

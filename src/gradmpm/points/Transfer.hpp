@@ -68,6 +68,37 @@ PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints
   return evaluate_stencils<dim, GimpBasis<dim>>(grid, points);
 }
 
+/// Removes from every stencil the grid nodes whose support, sum_p N_i(x_p) v_p, is below
+/// `relative` times a cell's volume: a node that points reach only by a sliver (a surface
+/// point that has moved a hair into the next cell, a GIMP domain overlapping a node's
+/// support by round-off) has an equation of near-zero stiffness, and Newton's correction
+/// there is unbounded (the footing of docs/plasticity.md: singular values 1e-16 of the
+/// largest). Returns how many nodes were dropped; their shape functions are left out,
+/// an error of the order of `relative` in the partition of unity.
+template <int dim>
+int drop_weak_nodes(PointStencils<dim>& st, const MaterialPoints<dim>& points, int num_nodes, double cell_volume,
+                    double relative) {
+  std::vector<double> support(num_nodes, 0.0);
+  for (std::size_t p = 0; p < st.size(); ++p)
+    for (int a = 0; a < st[p].count; ++a) support[st[p].node[a]] += st[p].N[a] * points.volume[p];
+  const double floor = relative * cell_volume;
+  int dropped = 0;
+  for (int n = 0; n < num_nodes; ++n) dropped += support[n] > 0.0 && support[n] < floor;
+  if (dropped == 0) return 0;
+  for (auto& s : st) {
+    int k = 0;
+    for (int a = 0; a < s.count; ++a)
+      if (!(support[s.node[a]] < floor)) {
+        s.node[k] = s.node[a];
+        s.N[k] = s.N[a];
+        s.dN[k] = s.dN[a];
+        ++k;
+      }
+    s.count = k;
+  }
+  return dropped;
+}
+
 /// Volume-weighted recovery of a scalar point field at the nodes (see header).
 /// Nodes that no point touches get 0.
 template <int dim>

@@ -14,27 +14,29 @@ namespace gradmpm {
 /// the points touching a node (an incidence list) name its neighbours, which are
 /// collected once each with a stamp array and sorted (a couple of dozen per node), and
 /// written straight into the compressed arrays.
-template <int dim>
-SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
+/// Groups of nodes couple all their nodes (a point's stencil; with F-bar, a cell's
+/// points' stencils together): `count(g)` and `node(g, a)` describe group g.
+template <class Count, class Node>
+SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, const DofMap& dofs) {
   const int n_active = dofs.num_active_nodes(), nc = dofs.ncomp();
   auto eq = [&](int node) { return dofs.dof(node, 0) / nc; };
-  // Points touching each active node, as compressed lists.
+  // Groups touching each active node, as compressed lists.
   std::vector<int> first(n_active + 1, 0);
-  for (const auto& s : st)
-    for (int a = 0; a < s.count; ++a) ++first[eq(s.node[a]) + 1];
+  for (int g = 0; g < groups; ++g)
+    for (int a = 0; a < count(g); ++a) ++first[eq(node(g, a)) + 1];
   for (int e = 0; e < n_active; ++e) first[e + 1] += first[e];
   std::vector<int> touching(first[n_active]), fill(first);  // fill[e]: next free slot of node e
-  for (int p = 0; p < static_cast<int>(st.size()); ++p)
-    for (int a = 0; a < st[p].count; ++a) touching[fill[eq(st[p].node[a])]++] = p;
+  for (int g = 0; g < groups; ++g)
+    for (int a = 0; a < count(g); ++a) touching[fill[eq(node(g, a))]++] = g;
   // Neighbour equations of each active node.
   std::vector<int> nbr_first(n_active + 1, 0), nbrs, stamp(n_active, -1);
-  nbrs.reserve(static_cast<std::size_t>(n_active) * ipow(5, dim));
+  nbrs.reserve(static_cast<std::size_t>(n_active) * 25);
   for (int e = 0; e < n_active; ++e) {
     const std::size_t begin = nbrs.size();
     for (int k = first[e]; k < first[e + 1]; ++k) {
-      const auto& s = st[touching[k]];
-      for (int b = 0; b < s.count; ++b) {
-        const int f = eq(s.node[b]);
+      const int g = touching[k];
+      for (int b = 0; b < count(g); ++b) {
+        const int f = eq(node(g, b));
         if (stamp[f] != e) {
           stamp[f] = e;
           nbrs.push_back(f);
@@ -60,6 +62,21 @@ SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
   outer[n] = k;
   std::fill(A.valuePtr(), A.valuePtr() + k, 0.0);
   return A;
+}
+
+/// The pattern of the point stencils.
+template <int dim>
+SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
+  return build_pattern_of_groups(
+      static_cast<int>(st.size()), [&](int p) { return st[p].count; }, [&](int p, int a) { return st[p].node[a]; },
+      dofs);
+}
+
+/// The pattern of node groups given as lists.
+inline SparseMatrix build_pattern(const std::vector<std::vector<int>>& groups, const DofMap& dofs) {
+  return build_pattern_of_groups(
+      static_cast<int>(groups.size()), [&](int g) { return static_cast<int>(groups[g].size()); },
+      [&](int g, int a) { return groups[g][a]; }, dofs);
 }
 
 /// Position of entry (row, col) in A's value array; the entry must be in the pattern.

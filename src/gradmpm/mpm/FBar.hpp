@@ -1,0 +1,82 @@
+#pragma once
+// The F-bar method for the implicit MPM (Coombs, Charlton, Cortis & Augarde 2018,
+// "Overcoming volumetric locking in material point methods", CMAME 333), against the
+// volumetric locking of isochoric plastic flow: the points of one background cell share
+// one volume change per load step,
+//   dJbar_c = sum_{q in c} w_q dJ_q,   w_q = v_q,n / sum_{q in c} v_q,n,
+//   dFbar_p = (dJbar_c / dJ_p)^(1/dim) dF_p   (the in-plane block in plane strain),
+// the material is updated with dFbar, sigma = tau(Fbar) / Jbar, and f_int integrates sigma
+// over the actual current volumes. Linearising (de Souza Neto et al. 2008, sec. 15.4, with
+// the cell average in place of the centroid) gives the tangent
+//   K = sum_p W_p G_a [A - Q (x) I] G_b  +  sum_c (sum_{p in c} W_p G_pa Q_p) (x) (sum_{q in c} beta_q G_qb),
+//   Q_ij = (1/dim) A_ijmm - (1 - 1/dim) tau_ij,  beta_q = w_q dJ_q / dJbar_c,
+//   W_p = (v_p,n / Jbar_p,n) dJ_p / dJbar_c, G = grad_n N dF^-1,
+// non-symmetric (solved as such) and coupling all nodes of a cell's points.
+#include <map>
+#include <vector>
+
+#include "gradmpm/grid/Grid.hpp"
+#include "gradmpm/points/MaterialPoints.hpp"
+#include "gradmpm/points/Transfer.hpp"
+
+namespace gradmpm {
+
+template <int dim>
+class FBarCells {
+ public:
+  /// Groups the points by the cell that holds them at x_n.
+  FBarCells(const Grid<dim>& grid, const MaterialPoints<dim>& pts, const PointStencils<dim>& st) : cell_(pts.size()) {
+    std::map<int, int> group_of_cell;
+    for (int p = 0; p < pts.size(); ++p) {
+      const auto c = grid.cell_of(pts.position[p]);
+      const int key = c ? linear(grid, *c) : -1;
+      auto [it, fresh] = group_of_cell.try_emplace(key, static_cast<int>(members_.size()));
+      if (fresh) members_.emplace_back();
+      cell_[p] = it->second;
+      members_[it->second].push_back(p);
+    }
+    weight_.resize(pts.size());
+    for (const auto& m : members_) {
+      double v = 0.0;
+      for (int q : m) v += pts.volume[q];
+      for (int q : m) weight_[q] = pts.volume[q] / v;
+    }
+    // The nodes each cell's points touch (the tangent couples all of them).
+    nodes_.resize(members_.size());
+    for (std::size_t c = 0; c < members_.size(); ++c) {
+      auto& n = nodes_[c];
+      for (int q : members_[c])
+        for (int a = 0; a < st[q].count; ++a) n.push_back(st[q].node[a]);
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+  }
+
+  int cell(int p) const { return cell_[p]; }
+  const std::vector<std::vector<int>>& members() const { return members_; }
+  const std::vector<std::vector<int>>& nodes() const { return nodes_; }
+  /// w_p = v_p,n / (the cell's points' volume)
+  double weight(int p) const { return weight_[p]; }
+
+  /// dJbar of each point's cell from every point's dJ.
+  void average(const std::vector<double>& dJ, std::vector<double>& dJbar) const {
+    dJbar.resize(dJ.size());
+    for (const auto& m : members_) {
+      double s = 0.0;
+      for (int q : m) s += weight_[q] * dJ[q];
+      for (int q : m) dJbar[q] = s;
+    }
+  }
+
+ private:
+  static int linear(const Grid<dim>& grid, const typename Grid<dim>::Index& c) {
+    int k = 0;
+    for (int d = dim - 1; d >= 0; --d) k = k * (grid.cells()[d] + 1) + c[d];
+    return k;
+  }
+  std::vector<int> cell_;
+  std::vector<std::vector<int>> members_, nodes_;
+  std::vector<double> weight_;
+};
+
+}  // namespace gradmpm
