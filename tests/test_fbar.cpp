@@ -6,7 +6,8 @@
 //  R2 the points of one cell share one volume change: after a step every point of a
 //     cell has the same Jbar, and with F-bar off Jbar stays 1;
 //  R3 with F-bar, Newton still converges quadratically in plastic steps (the strip load);
-//  R4 fbar = true is refused for small-strain laws.
+//  R4 fbar = true is refused for small-strain laws;
+//  R5 drop_weak_nodes removes a node a point reaches by a sliver, and only such nodes.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -184,4 +185,27 @@ TEST(FBar, IsRefusedForSmallStrainLaws) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST(FBar, WeakNodesAreDroppedAndOnlyThem) {
+  // 1D, cells of 1: a uGIMP point whose domain [0.25, 1.0 + 1e-6] reaches node 2 (support
+  // [1, 3]) by a sliver; a second point well inside cell 1 keeps node 2 strong in the
+  // second grid.
+  Grid<1> grid(Vec<1>(0.0), Vec<1>(1.0), {3});
+  MaterialPoints<1> pts;
+  pts.add(Vec<1>(0.625 + 0.5e-6), 0.375, 0, Vec<1>(0.375 + 0.5e-6));
+  auto st = evaluate_stencils(grid, pts, BasisKind::UGIMP);
+  int touches_node2 = 0;
+  for (int a = 0; a < st[0].count; ++a) touches_node2 += st[0].node[a] == 2;
+  ASSERT_EQ(touches_node2, 1) << "the sliver reaches node 2";
+  EXPECT_EQ(drop_weak_nodes(st, pts, grid.num_nodes(), 1.0, 1e-8), 1);
+  double sum = 0.0;
+  for (int a = 0; a < st[0].count; ++a) {
+    EXPECT_NE(st[0].node[a], 2);
+    sum += st[0].N[a];
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-8) << "the partition of unity is kept to the threshold";
+  pts.add(Vec<1>(1.5), 0.5, 0, Vec<1>(0.25));
+  auto st2 = evaluate_stencils(grid, pts, BasisKind::UGIMP);
+  EXPECT_EQ(drop_weak_nodes(st2, pts, grid.num_nodes(), 1.0, 1e-8), 0) << "node 2 is strong now";
 }
