@@ -11,6 +11,8 @@
 //              rollers, cpGIMP, 2 points per cell and direction; n x n cells
 //   column_3d  the same in 3D; n x n x n cells
 //   footing_2d examples/footing_2d.toml refined by a factor (uGIMP)
+//   tresca_2d  examples/footing_tresca_2d.toml (von Mises, plastic under the footing)
+//              refined by a factor; r = 12 is 1.2e5 dof
 // For each size the case's load steps are solved up to the reported one (--step K, 2 by
 // default) and that step's phases are reported per Newton iteration. The first step is
 // not representative: it starts from points at their generated, cell-aligned positions,
@@ -186,18 +188,22 @@ int main(int argc, char** argv) {
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
   std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};
   std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8, 16, 32};
+  std::vector<int> plastic = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 12};
   if (!only.empty()) {
     const auto colon = only.find(':');
     const std::string name = only.substr(0, colon);
     const int size = colon == std::string::npos ? 0 : std::atoi(only.c_str() + colon + 1);
-    if (size <= 0 || (name != "column_2d" && name != "column_3d" && name != "footing_2d")) {
-      fmt::print(stderr, "bench_mpm: --only expects column_2d:N, column_3d:N or footing_2d:R with N, R > 0, not '{}'\n",
-                 only);
+    if (size <= 0 || (name != "column_2d" && name != "column_3d" && name != "footing_2d" && name != "tresca_2d")) {
+      fmt::print(
+          stderr,
+          "bench_mpm: --only expects column_2d:N, column_3d:N, footing_2d:R or tresca_2d:R with N, R > 0, not '{}'\n",
+          only);
       return 2;
     }
     n2 = name == "column_2d" ? std::vector<int>{size} : std::vector<int>{};
     n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
+    plastic = name == "tresca_2d" ? std::vector<int>{size} : std::vector<int>{};
   }
   const std::string solver_key = fmt::format("linear_solver.type=\"{}\"", solver);
   for (int n : n2) bench<2>("column_2d", CaseFile::parse(column(2, n), "column_2d", {solver_key}), csv, threads);
@@ -214,6 +220,21 @@ int main(int argc, char** argv) {
                            fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
                            fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0", solver_key}),
              csv, threads);
+  }
+  const std::string tresca = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_tresca_2d.toml";
+  for (int r : plastic) {
+    const double h = 0.25 / r;
+    bench<2>(
+        "tresca_2d",
+        CaseFile::load(
+            tresca,
+            {fmt::format("grid.origin=[{},{}]", -h, -h), fmt::format("grid.cell_size={}", h),
+             fmt::format("grid.cells=[{},{}]", 20 * r + 2, 20 * r + 2),
+             fmt::format("constraints[0].min=[{},{}]", -h, -h), fmt::format("constraints[0].max=[{},0.0]", 5.0 + h),
+             fmt::format("constraints[1].min=[{},{}]", -h, h), fmt::format("constraints[1].max=[0.0,{}]", 5.0 + h),
+             fmt::format("constraints[2].min=[5.0,{}]", h), fmt::format("constraints[2].max=[{},{}]", 5.0 + h, 5.0 + h),
+             "output.vtk_every=0", "output.plot=false", solver_key}),
+        csv, threads);
   }
   fmt::print("wrote {}\n", csv_path);
 }
