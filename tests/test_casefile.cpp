@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "gradmpm/app/BarCase.hpp"
+#include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/core/Errors.hpp"
 
 using namespace gradmpm;
@@ -103,4 +104,19 @@ TEST(CaseFile, MalformedOverridesAreRefused) {
   EXPECT_NE(error_of({"elements=3"}).find("--set 'elements=3': expected section.key=value"), std::string::npos);
   EXPECT_NE(error_of({"bar=3"}).find("expected section.key=value"), std::string::npos);
   EXPECT_NE(error_of({"bar.length.x=3"}).find("'length' is not a section"), std::string::npos);
+}
+
+TEST(CaseFile, HugeArrayIndicesAndCountsAreInputErrors) {
+  // Issue 12: an index past stol's range used to escape as std::out_of_range (exit 1),
+  // and output.vtk_every = 4294967297 wrapped to 1 when cast to int.
+  const std::string mpm = "[grid]\norigin=[0.0]\ncell_size=1.0\ncells=[2]\n[[bodies]]\nmaterial=\"a\"\n";
+  try {
+    CaseFile::parse(mpm, "m.toml", {"bodies[99999999999999999999].material=soil"});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies has no entry [99999999999999999999]"), std::string::npos) << e.what();
+  }
+  const SectionSpec& out = mpm_section("output");
+  CaseFile cf = CaseFile::parse("[output]\nvtk_every = 4294967297\n", "m.toml");
+  EXPECT_THROW(read_integer(cf, "output", out.key("vtk_every")), InputError);
 }

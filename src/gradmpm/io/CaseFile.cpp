@@ -91,6 +91,10 @@ void CaseFile::apply_override(const std::string& assignment) {
       const std::string digits = part.substr(lb + 1, part.size() - lb - 2);
       if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
         throw InputError(fmt::format("--set '{}': '{}' is not name[index]", assignment, part));
+      // No array of tables holds a billion entries; longer digit strings would overflow stol.
+      if (digits.size() > 9)
+        throw InputError(
+            fmt::format("--set '{}': {} has no entry [{}] in {}", assignment, part.substr(0, lb), digits, name_));
       index = std::stol(digits);
       part = part.substr(0, lb);
     }
