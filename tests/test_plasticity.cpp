@@ -21,7 +21,12 @@
 //     (s = 0, p = xi c / eta), both regions reached; the tangent matches central
 //     differences (1e-6) on the cone and at the apex, associated or not, hardening or
 //     softening; it is symmetric exactly when psi = phi, and the non-associated law then
-//     runs in the MPM through linear_solver.general with quadratic convergence.
+//     runs in the MPM through linear_solver.general with quadratic convergence;
+//  R8 Mohr-Coulomb: the plane, both edges and the apex are reached and the returned
+//     stress lies there (f = 0 and the ordering, sigma_1 = sigma_2 or sigma_2 = sigma_3,
+//     or the apex); the tangent matches central differences (1e-6) in every region,
+//     associated or not, and is symmetric exactly when psi = phi; non-associated it runs
+//     in the MPM through linear_solver.general with quadratic convergence.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -38,6 +43,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/materials/DruckerPrager.hpp"
+#include "gradmpm/materials/MohrCoulomb.hpp"
 #include "gradmpm/materials/VonMises.hpp"
 #include "gradmpm/points/Generate.hpp"
 
@@ -330,12 +336,15 @@ TEST(DruckerPrager, TangentMatchesFiniteDifferencesOnTheConeAndAtTheApex) {
   }
 }
 
-TEST(DruckerPrager, NonAssociatedLawRunsThroughTheGeneralSolverWithQuadraticConvergence) {
+class NonAssociated : public ::testing::TestWithParam<const char*> {};
+INSTANTIATE_TEST_SUITE_P(Plasticity, NonAssociated, ::testing::Values("drucker-prager", "mohr-coulomb"));
+
+TEST_P(NonAssociated, LawRunsThroughTheGeneralSolverWithQuadraticConvergence) {
   std::string text = strip_load_case();
   const std::string vm = "model = \"von-mises\"\nyoung = 1000.0\npoisson = 0.3\nyield_stress = 10.0\nhardening = 50.0";
   text.replace(text.find(vm), vm.size(),
-               "model = \"drucker-prager\"\nyoung = 1000.0\npoisson = 0.3\ncohesion = 4.0\nfriction_angle = 25.0\n"
-               "dilation_angle = 0.0");
+               std::string("model = \"") + GetParam() +
+                   "\"\nyoung = 1000.0\npoisson = 0.3\ncohesion = 4.0\nfriction_angle = 25.0\ndilation_angle = 0.0");
   CaseFile cf = CaseFile::parse(text, "strip.toml");
   MpmCase<2> c = read_mpm_case<2>(cf);
   ASSERT_FALSE(c.model.symmetric_tangent());
@@ -351,9 +360,73 @@ TEST(DruckerPrager, NonAssociatedLawRunsThroughTheGeneralSolverWithQuadraticConv
   });
   double kappa = 0.0;
   for (int p = 0; p < c.model.points.size(); ++p) kappa = std::max(kappa, c.model.points.state_of(p)[6]);
-  std::cout << "non-associated Drucker-Prager strip load: max eps_p " << kappa << ", worst log-ratio " << worst
+  std::cout << "non-associated " << GetParam() << " strip load: max eps_p " << kappa << ", worst log-ratio " << worst
             << " over " << checked << " iterations\n";
   EXPECT_GT(kappa, 0.0);
   EXPECT_GT(checked, 3);
   EXPECT_GE(worst, 1.8);
+}
+
+namespace {
+MohrCoulomb mc(double phi, double psi) { return MohrCoulomb(IsotropicElasticity(kE, kNu), 1.0, {5.0, phi, psi}); }
+/// dF with principal logarithmic strains `eps` in a rotated frame: from eps_n = 0 the
+/// trial strains are exactly eps.
+Mat3 stretch(const Eigen::Vector3d& eps) {
+  const Mat3 Q = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY()))
+                     .toRotationMatrix();
+  return Q * eps.array().exp().matrix().asDiagonal() * Q.transpose();
+}
+Eigen::Vector3d sorted_principal(const Mat3& tau) {
+  Eigen::SelfAdjointEigenSolver<Mat3> e(tau);
+  return {e.eigenvalues()[2], e.eigenvalues()[1], e.eigenvalues()[0]};
+}
+}  // namespace
+
+TEST(MohrCoulomb, EveryRegionIsReachedAndItsReturnLiesThere) {
+  using R = MohrCoulomb::Region;
+  struct Case {
+    const char* what;
+    Eigen::Vector3d eps;
+    R expected;
+  };
+  const std::vector<Case> cases = {
+      {"elastic", {0.001, 0.0, -0.001}, R::Elastic},
+      {"plane", {0.01, 0.0, -0.01}, R::Plane},
+      {"edge sigma_1 = sigma_2 (triaxial compression)", {0.01, 0.0102, -0.03}, R::EdgeCompression},
+      {"edge sigma_2 = sigma_3 (triaxial extension)", {0.02, -0.02, -0.0202}, R::EdgeExtension},
+      {"apex", {0.03, 0.03, 0.03}, R::Apex},
+  };
+  for (const auto& [phi, psi] : {std::pair{30.0, 30.0}, std::pair{30.0, 10.0}}) {
+    const MohrCoulomb m = mc(phi, psi);
+    const double s = std::sin(phi * std::numbers::pi / 180.0), k = (1 + s) / (1 - s);
+    const double sigma_c = 2.0 * 5.0 * std::cos(phi * std::numbers::pi / 180.0) / (1 - s), apex = sigma_c / (k - 1);
+    for (const auto& c : cases) {
+      const auto u = test::respond(m, stretch(c.eps), state(Mat3::Zero(), 0.0));
+      EXPECT_EQ(MohrCoulomb::region(u.r), c.expected) << c.what << ", psi = " << psi;
+      const Eigen::Vector3d sg = sorted_principal(u.r.stress);
+      const double tol = 1e-10 * sigma_c;
+      if (c.expected != R::Elastic) EXPECT_NEAR(m.yield(sg), 0.0, tol) << c.what;
+      EXPECT_GE(sg[0], sg[1] - tol);
+      EXPECT_GE(sg[1], sg[2] - tol);
+      if (c.expected == R::EdgeCompression) EXPECT_NEAR(sg[0], sg[1], tol) << c.what;
+      if (c.expected == R::EdgeExtension) EXPECT_NEAR(sg[1], sg[2], tol) << c.what;
+      if (c.expected == R::Apex) EXPECT_LT((sg - apex * Eigen::Vector3d::Ones()).norm(), tol) << c.what;
+      if (c.expected != R::Elastic) EXPECT_GT(u.state[6], 0.0) << c.what;
+      // The tangent in this region against central differences.
+      const auto st = state(Mat3::Zero(), 0.0);
+      const Mat9 A = test::tangent_of(m, stretch(c.eps), st);
+      const Mat9 Afd = test::finite_difference_tangent(m, stretch(c.eps), st, 1e-8);
+      const double scale = A.cwiseAbs().maxCoeff();
+      const double err = (A - Afd).cwiseAbs().maxCoeff() / scale;
+      const double asym = (A - A.transpose()).cwiseAbs().maxCoeff() / scale;
+      std::cout << "Mohr-Coulomb, psi = " << psi << ", " << c.what << ": max |A - A_fd| / max |A| = " << err
+                << ", asymmetry " << asym << "\n";
+      EXPECT_LT(err, 1e-6) << c.what << ", psi = " << psi;
+      if (psi == phi || c.expected == R::Elastic || c.expected == R::Apex)
+        EXPECT_LT(asym, 1e-10) << c.what;
+      else
+        EXPECT_GT(asym, 1e-4) << c.what << ": non-associated";
+    }
+    EXPECT_EQ(m.symmetric_tangent(), psi == phi);
+  }
 }

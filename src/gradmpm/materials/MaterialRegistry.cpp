@@ -12,12 +12,13 @@ MaterialInfo linear_elastic_info();  // materials/LinearElastic.cpp
 MaterialInfo hencky_info();          // materials/Hencky.cpp
 MaterialInfo von_mises_info();       // materials/VonMises.cpp
 MaterialInfo drucker_prager_info();  // materials/DruckerPrager.cpp
+MaterialInfo mohr_coulomb_info();    // materials/MohrCoulomb.cpp
 
 void register_builtins(MaterialRegistry& registry) {
-  registry.add(hencky_info());
-  registry.add(linear_elastic_info());
-  registry.add(von_mises_info());
-  registry.add(drucker_prager_info());
+  // One entry per law, in the order the docs list them.
+  for (MaterialInfo (*info)() :
+       {hencky_info, linear_elastic_info, von_mises_info, drucker_prager_info, mohr_coulomb_info})
+    registry.add(info());
 }
 
 // A table of keys, one per line or two (laid out by hand).
