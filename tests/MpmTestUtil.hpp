@@ -2,13 +2,28 @@
 // Shared model builders of the MPM tests.
 #include <memory>
 
+#include <string>
+
 #include "gradmpm/analytic/Column.hpp"
+#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/core/Errors.hpp"
 #include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
 
 namespace gradmpm::test {
+
+/// The message of the InputError that reading `cf` as an MPM case throws; "" when it reads.
+template <int dim>
+std::string read_error(CaseFile cf) {
+  try {
+    read_mpm_case<dim>(cf);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 /// The large-deformation column: H0 = 10, rho0 = 1, g = 10, E = 80 (rho0 g H0 / E = 1.25,
 /// final height 0.691 H0), Hencky, nu = 0, 2 points per cell and direction.
