@@ -67,8 +67,11 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
 
   std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
   std::string history = "step,load_factor,iteration,residual\n";
-  const std::vector<std::string> tracked_columns = PointColumns<dim>(m, nullptr).with_state(kTrackedColumns);
-  std::string tracked = "step,load_factor," + join(PointColumns<dim>(m, nullptr).csv_header(tracked_columns)) + "\n";
+  // The tracked columns hold no gradient fields: one table serves every step (its columns
+  // read the points when written).
+  const PointColumns<dim> tracked_table(m, nullptr);
+  const std::vector<std::string> tracked_columns = tracked_table.with_state(kTrackedColumns);
+  std::string tracked = "step,load_factor," + join(tracked_table.csv_header(tracked_columns)) + "\n";
   auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
     const std::string pf = fmt::format("points_{:04d}.vtu", step), gf = fmt::format("grid_{:04d}.vtu", step);
     const PointColumns<dim> table(m, gradient_step.fields());
@@ -107,7 +110,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
     }
   };
   auto track = [&](int step, double lambda) {
-    PointColumns<dim>(m, nullptr).append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
+    tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
   };
   if (!quiet)
     fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s)\n", dim, m.points.size(),

@@ -207,10 +207,11 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
   const auto t0 = Clock::now();
   const int n = m.points.size();
   const GradientVariant v = settings_.variant;
-  if (v != GradientVariant::U_RA)  // e-RA, s-RA and none keep the classical displacement
+  std::vector<Mat3> eps = m.elastic_strains();  // the classical strain, once per step
+  if (v != GradientVariant::U_RA)               // e-RA, s-RA and none keep the classical displacement
     for (int p = 0; p < n; ++p) fields_.displacement[p] = m.points.position[p] - m.points.original_position[p];
   if (v == GradientVariant::None) {
-    fields_.strain = m.elastic_strains();
+    fields_.strain = eps;
     fields_.stress = m.points.stress;
   } else {
     SmoothingContext<dim> ctx(m, settings_.length_scale, settings_.linear_solver);
@@ -225,7 +226,6 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
       }
     } else {
       const bool strain = v == GradientVariant::E_RA;
-      const std::vector<Mat3> eps = strain ? m.elastic_strains() : std::vector<Mat3>{};
       std::vector<Mat3> d(n);
       for (int p = 0; p < n; ++p)
         d[p] = strain ? Mat3(eps[p] - prev_strain_[p]) : Mat3(m.points.stress[p] - prev_stress_[p]);
@@ -235,7 +235,7 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
     complete(m, v, fields_);
   }
   prev_position_ = m.points.position;
-  prev_strain_ = m.elastic_strains();
+  prev_strain_ = std::move(eps);
   prev_stress_ = m.points.stress;
   seconds_ += seconds_since(t0);
 }

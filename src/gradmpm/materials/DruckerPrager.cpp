@@ -33,7 +33,7 @@ DruckerPrager::DruckerPrager(const IsotropicElasticity& e, double rho, const Dru
     : PlasticLaw(e, rho, "equivalent plastic strain kappa = int xi d_gamma"),
       cohesion_{p.cohesion, p.hardening, p.residual_cohesion} {
   std::tie(eta_, xi_) = cone(p.friction_angle, p.fit);
-  eta_bar_ = p.dilation_angle == p.friction_angle ? eta_ : cone(p.dilation_angle, p.fit).first;
+  eta_bar_ = cone(p.dilation_angle, p.fit).first;  // equal to eta_ when psi = phi
 }
 
 void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {

@@ -27,7 +27,7 @@ Eigen::Vector3d descending(const Eigen::Vector3d& v) { return {v[2], v[1], v[0]}
 MohrCoulomb::MohrCoulomb(const IsotropicElasticity& e, double rho, const MohrCoulombParameters& p)
     : PlasticLaw(e, rho, "equivalent plastic strain kappa = int sqrt(2/3) |dev d eps_p|"),
       k_(ratio(p.friction_angle)),
-      m_(p.dilation_angle == p.friction_angle ? ratio(p.friction_angle) : ratio(p.dilation_angle)),
+      m_(ratio(p.dilation_angle)),  // equal to k_ when psi = phi
       sigma_c_(2.0 * p.cohesion * std::sqrt(ratio(p.friction_angle))) {
   D_ = e.lambda * kOnes * kOnes.transpose() + 2.0 * e.mu * Mat3::Identity();
 }
