@@ -162,6 +162,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     cf.require(!m.fbar || mat->finite_strain(), "mpm.fbar",
                fmt::format("false with the small-strain model \"{}\" (F-bar needs finite-strain laws)", mat->model()));
 
+  m.ghost_penalty = read_number(cf, "mpm", mpm_section("mpm").key("ghost_penalty"));
+
   // --- loads
   if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
 

@@ -12,6 +12,7 @@
 
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/mpm/FBar.hpp"
+#include "gradmpm/mpm/GhostPenalty.hpp"
 #include "gradmpm/mpm/Model.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
@@ -48,7 +49,10 @@ class LoadStep {
         st_(stencils(m)),
         dofs_(st_, m.grid.num_nodes(), dim),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
-        pattern_(fbar_ ? build_pattern(fbar_->nodes(), dofs_) : build_pattern(st_, dofs_)),
+        ghost_(m.ghost_penalty > 0.0
+                   ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty)
+                   : nullptr),
+        pattern_(make_pattern()),
         assembler_(st_, m.points, dofs_, &m.grid),
         response_(m.points.size()),
         trial_state_(m.points.state.size()) {
@@ -123,6 +127,7 @@ class LoadStep {
     }
     if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
     scatter_internal_force(f_int);
+    if (ghost_) ghost_->add_force(dofs_, du, f_int);
   }
 
   /// f_int,i = sum_p w_p stress_p grad N_i, by buckets of points with disjoint nodes.
@@ -171,6 +176,7 @@ class LoadStep {
       }
     });
     if (fbar_) add_fbar_coupling(K);
+    if (ghost_) ghost_->add_matrix(dofs_, K);
   }
 
   /// Eq. (2): maps the converged increment to the points and updates their state.
@@ -238,6 +244,24 @@ class LoadStep {
   }
 
  private:
+  /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'
+  /// stencils together) and each ghost face's nodes.
+  SparseMatrix make_pattern() const {
+    const int n_main = fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size());
+    const int n_ghost = ghost_ ? ghost_->size() : 0;
+    return build_pattern_of_groups(
+        n_main + n_ghost,
+        [&](int g) {
+          if (g >= n_main) return ghost_->faces()[g - n_main].count;
+          return fbar_ ? static_cast<int>(fbar_->nodes()[g].size()) : st_[g].count;
+        },
+        [&](int g, int a) {
+          if (g >= n_main) return ghost_->faces()[g - n_main].node[a];
+          return fbar_ ? fbar_->nodes()[g][a] : st_[g].node[a];
+        },
+        dofs_);
+  }
+
   /// The points' stencils at x_n. With F-bar, without the nodes they reach only by a
   /// sliver (drop_weak_nodes: support below 1e-8 of a cell's volume): F-bar takes the
   /// volumetric stiffness a lone point gives such a node away, and the tangent turned
@@ -282,6 +306,7 @@ class LoadStep {
       weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
     }
     scatter_internal_force(f_int);
+    if (ghost_) ghost_->add_force(dofs_, du, f_int);
   }
 
   /// A -> A - Q (x) I (the local part of the F-bar tangent); keeps Q_p for the coupling.
@@ -334,6 +359,7 @@ class LoadStep {
   PointStencils<dim> st_;
   DofMap dofs_;
   std::unique_ptr<FBarCells<dim>> fbar_;
+  std::unique_ptr<GhostFaces<dim>> ghost_;  ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;
   SparseMatrix pattern_;

@@ -36,6 +36,7 @@ struct Model {
   std::vector<std::shared_ptr<const Material>> materials;
   BasisKind basis = BasisKind::MPM;
   bool fbar = false;                    ///< F-bar against volumetric locking (mpm/FBar.hpp); finite-strain laws only
+  double ghost_penalty = 0.0;           ///< alpha of the ghost stabilisation (mpm/GhostPenalty.hpp); 0 = off
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
   std::vector<NodalConstraint> constraints;
   std::vector<NamedNodeSet> node_sets;
