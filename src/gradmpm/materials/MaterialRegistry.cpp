@@ -41,6 +41,8 @@ const KeySpec& LawKeys::spec(const std::string& name) const {
   throw std::logic_error(self.model + " declares no key " + name);
 }
 
+bool LawKeys::has(const std::string& name) const { return cf.has(prefix + "." + spec(name).name); }
+
 void LawKeys::require(bool ok, const std::string& name, const std::string& expected) const {
   cf.require(ok, prefix + "." + name, expected);
 }

@@ -41,6 +41,8 @@ struct LawKeys {
   const KeySpec& spec(const std::string& name) const;
   double number(const std::string& name) const { return read_number(cf, prefix, spec(name)); }
   std::string string(const std::string& name) const { return read_string(cf, prefix, spec(name)); }
+  /// Whether the case gives the (optional, default-less) key.
+  bool has(const std::string& name) const;
   /// InputError on `prefix.name` unless ok.
   void require(bool ok, const std::string& name, const std::string& expected) const;
 };

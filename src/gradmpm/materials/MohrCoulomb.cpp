@@ -1,8 +1,10 @@
 #include "gradmpm/materials/MohrCoulomb.hpp"
 
 #include <Eigen/Dense>
+#include <bit>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "gradmpm/io/CaseFile.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
@@ -10,10 +12,10 @@
 namespace gradmpm {
 
 namespace {
-// Response cache: the trial (12), the region, then d sigma / d sigma_trial in sorted
-// (descending) principal order can be recomputed from the trial, so only the region.
-constexpr int kRegion = kTrialCacheSize;
-static_assert(MaterialResponse::cache_capacity >= kTrialCacheSize + 1);
+// Response cache: the trial (12), the active planes, the strength sigma_c the return
+// converged at, and d sigma_c / d kappa in force (0 at the floor).
+constexpr int kActive = kTrialCacheSize, kStrength = kTrialCacheSize + 1, kSlope = kTrialCacheSize + 2;
+static_assert(MaterialResponse::cache_capacity >= kTrialCacheSize + 3);
 const Eigen::Vector3d kOnes = Eigen::Vector3d::Ones();
 
 double ratio(double deg) {
@@ -22,84 +24,159 @@ double ratio(double deg) {
 }
 /// Eigen's eigenvalues ascend; the return works on sigma_1 >= sigma_2 >= sigma_3.
 Eigen::Vector3d descending(const Eigen::Vector3d& v) { return {v[2], v[1], v[0]}; }
+
+/// The candidate active sets of the nine planes, by size (1, 2, 3), then by number.
+const std::vector<unsigned>& active_sets() {
+  static const std::vector<unsigned> sets = [] {
+    std::vector<unsigned> v;
+    for (int size = 1; size <= 3; ++size)
+      for (unsigned m = 1; m < 512; ++m)
+        if (std::popcount(m) == size) v.push_back(m);
+    return v;
+  }();
+  return sets;
+}
+constexpr unsigned kMohrCoulombPlanes = 0b000111111, kCutoffPlanes = 0b111000000;
+
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
 }  // namespace
 
 MohrCoulomb::MohrCoulomb(const IsotropicElasticity& e, double rho, const MohrCoulombParameters& p)
-    : PlasticLaw(e, rho, "equivalent plastic strain kappa = int sqrt(2/3) |dev d eps_p|"),
+    : PlasticLaw(e, rho, "equivalent plastic strain kappa = int sqrt(2/3) |d eps_p|"),
       k_(ratio(p.friction_angle)),
       m_(ratio(p.dilation_angle)),  // equal to k_ when psi = phi
-      sigma_c_(2.0 * p.cohesion * std::sqrt(ratio(p.friction_angle))) {
+      sigma_t_(p.tension_cutoff),
+      cohesion_{p.cohesion, p.hardening, p.residual_cohesion} {
   D_ = e.lambda * kOnes * kOnes.transpose() + 2.0 * e.mu * Mat3::Identity();
+  D_inv_ = D_.inverse();
 }
 
 MohrCoulomb::Region MohrCoulomb::region(const MaterialResponse& r) {
-  return static_cast<Region>(static_cast<int>(r.cache[kRegion]));
+  const unsigned a = static_cast<unsigned>(r.cache[kActive]);
+  if (a == 0) return Region::Elastic;
+  if (a & kCutoffPlanes) return Region::Tension;
+  if (std::popcount(a) == 3) return Region::Apex;
+  if (a == 0b101) return Region::EdgeCompression;  // sigma_1 = sigma_2
+  if (a == 0b011) return Region::EdgeExtension;    // sigma_2 = sigma_3
+  return Region::Plane;
 }
 
-MohrCoulomb::Region MohrCoulomb::return_map(const Eigen::Vector3d& tr, Eigen::Vector3d& sigma, Mat3& ds) const {
-  ds = Mat3::Identity();
-  sigma = tr;
-  if (yield(tr) <= 0.0) return Region::Elastic;
-  const Eigen::Vector3d a(k_, 0.0, -1.0), b(m_, 0.0, -1.0), Db = D_ * b;
-  // The plane: sigma = tr - d_lambda D b.
-  const double d_lambda = yield(tr) / a.dot(Db);
-  const Eigen::Vector3d plane = tr - d_lambda * Db;
-  if (plane[0] >= plane[1] && plane[1] >= plane[2]) {
-    sigma = plane;
-    ds = Mat3::Identity() - Db * a.transpose() / a.dot(Db);
-    return Region::Plane;
+MohrCoulomb::Return MohrCoulomb::return_map(const Eigen::Vector3d& tr, double s) const {
+  // The planes a_j . sigma = strength_j and their flow directions b_j: Mohr-Coulomb's six,
+  // k sigma_i - sigma_j (the main plane first, then the two beyond its edges sigma_2 =
+  // sigma_3 and sigma_1 = sigma_2, then the other three, which the apex needs), and the
+  // cut-off's three.
+  const Eigen::Vector3d a[9] = {{k_, 0, -1}, {k_, -1, 0}, {0, k_, -1}, {-1, k_, 0}, {-1, 0, k_},
+                                {0, -1, k_}, {1, 0, 0},   {0, 1, 0},   {0, 0, 1}};
+  const Eigen::Vector3d b[9] = {{m_, 0, -1}, {m_, -1, 0}, {0, m_, -1}, {-1, m_, 0}, {-1, 0, m_},
+                                {0, -1, m_}, {1, 0, 0},   {0, 1, 0},   {0, 0, 1}};
+  const bool cutoff = std::isfinite(sigma_t_);
+  auto strength = [&](int j) { return j < 6 ? s : sigma_t_; };
+  Return out;
+  out.sigma = tr;
+  out.P = Mat3::Identity();
+  out.g.setZero();
+  const double scale = tr.cwiseAbs().maxCoeff() + std::abs(s) + (cutoff ? std::abs(sigma_t_) : 0.0);
+  // In sorted space the plane and the first cut-off plane bound the others.
+  if (a[0].dot(tr) <= s && (!cutoff || tr[0] <= sigma_t_)) return out;
+  for (unsigned set : active_sets()) {
+    if (!cutoff && (set & kCutoffPlanes)) continue;
+    int j_of[3], n = 0;
+    for (int j = 0; j < 9; ++j)
+      if (set & (1u << j)) j_of[n++] = j;
+    Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> A(3, n), DB(3, n);
+    SmallVector rhs(n), strong(n);
+    for (int i = 0; i < n; ++i) {
+      A.col(i) = a[j_of[i]];
+      DB.col(i) = D_ * b[j_of[i]];
+      rhs[i] = a[j_of[i]].dot(tr) - strength(j_of[i]);
+      strong[i] = j_of[i] < 6 ? 1.0 : 0.0;
+    }
+    const Small M = A.transpose() * DB;
+    Eigen::FullPivLU<Small> lu(M);
+    lu.setThreshold(1e-12);
+    if (lu.rank() < n) continue;
+    const SmallVector d_lambda = lu.solve(rhs);
+    if (d_lambda.minCoeff() < -1e-12 * scale / D_(0, 0)) continue;
+    const Eigen::Vector3d sigma = tr - DB * d_lambda;
+    bool admissible = true;
+    for (int j = 0; j < (cutoff ? 9 : 6); ++j)
+      admissible = admissible && a[j].dot(sigma) - strength(j) <= 1e-10 * scale;
+    if (!admissible) continue;
+    const Small Minv = lu.inverse();
+    out.active = set;
+    out.sigma = sigma;
+    // Three independent planes fix the stress: P vanishes (exactly, not to round-off).
+    out.P = n == 3 ? Mat3::Zero() : Mat3(Mat3::Identity() - DB * Minv * A.transpose());
+    out.g = DB * (Minv * strong);
+    return out;
   }
-  // An edge: sigma = apex + t r, the return direction in the span of the two active flow
-  // directions, so t = n.(tr - apex) / n.r with n normal to that span.
-  const Eigen::Vector3d apex = sigma_c_ / (k_ - 1.0) * kOnes;
-  const Eigen::Vector3d r1(1.0, 1.0, k_), r2(1.0, k_, k_);                   // sigma_1 = sigma_2, sigma_2 = sigma_3
-  const Eigen::Vector3d n1 = Db.cross(D_ * Eigen::Vector3d(0.0, m_, -1.0));  // with the surface of sigma_1 <-> sigma_2
-  const Eigen::Vector3d n2 = Db.cross(D_ * Eigen::Vector3d(m_, -1.0, 0.0));  // with the surface of sigma_2 <-> sigma_3
-  const double t1 = n1.dot(tr - apex) / n1.dot(r1), t2 = n2.dot(tr - apex) / n2.dot(r2);
-  if (t1 > 0.0 && t2 > 0.0) {  // beyond the apex
-    sigma = apex;
-    ds.setZero();
-    return Region::Apex;
-  }
-  const bool compression = plane[1] > plane[0];  // the plane return crossed sigma_1 = sigma_2
-  const Eigen::Vector3d& r = compression ? r1 : r2;
-  const Eigen::Vector3d& n = compression ? n1 : n2;
-  const double t = compression ? t1 : t2;
-  if (t > 0.0) {
-    sigma = apex;
-    ds.setZero();
-    return Region::Apex;
-  }
-  sigma = apex + t * r;
-  ds = r * n.transpose() / n.dot(r);
-  return compression ? Region::EdgeCompression : Region::EdgeExtension;
+  // No flow directions reach the stress: beyond the apex with too little dilation (psi = 0:
+  // deviatoric flow never changes the mean stress). The apex then acts as a cut-off of the
+  // mean stress (as Clausen et al. do), or the cut-off's apex when that is lower.
+  const double apex = s / (k_ - 1.0);
+  const bool cut = cutoff && sigma_t_ < apex;
+  out.active = cut ? kCutoffPlanes : 0b111;
+  out.sigma = (cut ? sigma_t_ : apex) * kOnes;
+  out.P.setZero();
+  out.g = cut ? Eigen::Vector3d::Zero() : Eigen::Vector3d(kOnes / (k_ - 1.0));
+  return out;
 }
 
 void MohrCoulomb::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {
   const ElasticTrial trial = elastic_trial(dF, unpack_symmetric(state_n));
   const Eigen::Vector3d eps_tr = trial.log_strain();
-  const Eigen::Vector3d tr = D_ * eps_tr;  // principal trial Kirchhoff stresses, ascending
-  Eigen::Vector3d sorted;
-  Mat3 ds;
-  const Region reg = return_map(descending(tr), sorted, ds);
-  const Eigen::Vector3d tau = descending(sorted);
-  const Eigen::Vector3d eps_e = D_.inverse() * tau, d_eps_p = eps_tr - eps_e;
-  finish_update(trial, tau, eps_e, state_n[kKappa] + std::sqrt(2.0 / 3.0) * d_eps_p.norm(),
-                {static_cast<double>(static_cast<int>(reg))}, state, out);
+  const Eigen::Vector3d tr = descending(D_ * eps_tr);  // sorted principal trial Kirchhoff stresses
+  const double kappa_n = state_n[kKappa], root_k = 2.0 * std::sqrt(k_);
+  // sigma_c = 2 sqrt(k) c(kappa(sigma_c)): Newton on the strength (one pass without softening).
+  double s = strength(kappa_n), slope = 0.0, kappa = kappa_n;
+  Return ret;
+  for (int it = 0;; ++it) {
+    ret = return_map(tr, s);
+    const Eigen::Vector3d eps_p = D_inv_ * (tr - ret.sigma);
+    const double norm = eps_p.norm();
+    kappa = kappa_n + std::sqrt(2.0 / 3.0) * norm;
+    bool floor = false;
+    const double target = root_k * cohesion_.at(kappa, &floor);
+    slope = ret.active == 0 || floor ? 0.0 : root_k * cohesion_.slope;
+    const double residual = s - target;
+    if (std::abs(residual) <= 1e-13 * std::max(std::abs(s), root_k * cohesion_.initial)) break;
+    if (it == 50) {
+      ret.sigma.setConstant(std::numeric_limits<double>::quiet_NaN());  // the step is cut
+      break;
+    }
+    const double dkappa_ds = norm > 0.0 ? -std::sqrt(2.0 / 3.0) * eps_p.dot(D_inv_ * ret.g) / norm : 0.0;
+    s -= residual / (1.0 - slope * dkappa_ds);
+  }
+  const Eigen::Vector3d tau = descending(ret.sigma);
+  const Eigen::Vector3d eps_e = D_inv_ * tau;
+  finish_update(trial, tau, eps_e, kappa, {static_cast<double>(ret.active), s, slope}, state, out);
 }
 
 void MohrCoulomb::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
   const ElasticTrial trial = load_trial(r);
   const Eigen::Vector3d eps = trial.log_strain();
-  Eigen::Vector3d sorted;
-  Mat3 ds;
-  return_map(descending(D_ * eps), sorted, ds);
+  const Eigen::Vector3d tr = descending(D_ * eps);
+  const Return ret = return_map(tr, r.cache[kStrength]);
+  // d sigma / d trial = P + g w^T, w from the strength equation: d s = slope d kappa,
+  // d kappa = sqrt(2/3) nu . D^-1 ((I - P) d tr - g d s), nu = eps_p / |eps_p|.
+  Mat3 ds = ret.P;
+  const double slope = r.cache[kSlope];
+  const Eigen::Vector3d eps_p = D_inv_ * (tr - ret.sigma);
+  if (slope != 0.0 && eps_p.norm() > 0.0) {
+    const Eigen::Vector3d nu = eps_p / eps_p.norm();
+    const double beta = slope * std::sqrt(2.0 / 3.0);
+    const Eigen::Vector3d w =
+        beta / (1.0 + beta * nu.dot(D_inv_ * ret.g)) * (D_inv_ * (Mat3::Identity() - ret.P)).transpose() * nu;
+    ds += ret.g * w.transpose();
+  }
   // D_ab = d tau_a / d eps_b in Eigen's (ascending) order: reverse both indices.
   Mat3 D;
   const Mat3 Ds = ds * D_;  // sorted order
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) D(a, b) = Ds(2 - a, 2 - b);
-  const Eigen::Vector3d tau = descending(sorted);
+  const Eigen::Vector3d tau = descending(ret.sigma);
   // c_ab = (tau_a - tau_b) / (l_a - l_b) = [(tau_a - tau_b) / (eps_a - eps_b)] theta_ab / 2,
   // the bracket tending to D_aa - D_ab when eps_a = eps_b.
   const Eigen::Vector3d& l = trial.stretch2;
@@ -108,8 +185,8 @@ void MohrCoulomb::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
   for (int k = 0; k < 3; ++k) {
     const int a = pairs[k][0], b = pairs[k][1];
     const double de = eps[a] - eps[b];
-    const double slope = std::abs(de) > 1e-10 ? (tau[a] - tau[b]) / de : D(a, a) - D(a, b);
-    spin[k] = 0.5 * slope * log_divided_difference(l[a], l[b]);
+    const double slope_ab = std::abs(de) > 1e-10 ? (tau[a] - tau[b]) / de : D(a, a) - D(a, b);
+    spin[k] = 0.5 * slope_ab * log_divided_difference(l[a], l[b]);
   }
   spectral_tangent(trial, tau, 0.0, D, spin, dim, A);
 }
@@ -123,13 +200,24 @@ MaterialInfo mohr_coulomb_info() {
                   .allowed = "an angle in degrees in (0, 90)", .doc = "phi, degrees"});
   keys.push_back({.name = "dilation_angle", .type = KeyType::Number, .min = 0.0, .max = 90.0, .max_open = true,
                   .allowed = "an angle in degrees in [0, friction_angle]", .doc = "psi, degrees; psi < phi: non-associated flow, non-symmetric tangent"});
+  keys.push_back({.name = "hardening", .type = KeyType::Number, .default_value = 0.0, .doc = "H = dc / d eps_p; negative: softening"});
+  keys.push_back({.name = "residual_cohesion", .type = KeyType::Number, .default_value = 0.0, .min = 0.0,
+                  .allowed = "a residual cohesion >= 0", .doc = "the cohesion softening stops at (H < 0); at most cohesion"});
+  keys.push_back({.name = "tension_cutoff", .type = KeyType::Number, .default_text = "none", .min = 0.0,
+                  .allowed = "a tensile strength >= 0", .doc = "sigma_t: the largest principal stress (Rankine cut-off, associated); none: only Mohr-Coulomb's apex"});
   // clang-format on
   return {
-      "mohr-coulomb", "finite-strain Mohr-Coulomb elasto-plasticity, perfectly plastic, non-associated", keys,
+      "mohr-coulomb",
+      "finite-strain Mohr-Coulomb elasto-plasticity, non-associated, cohesion hardening or softening, optional tension "
+      "cut-off",
+      keys,
       [](const CaseFile& cf, const std::string& prefix, const MaterialInfo& self) -> std::shared_ptr<const Material> {
         const LawKeys in{cf, prefix, self};
-        const MohrCoulombParameters p{in.number("cohesion"), in.number("friction_angle"), in.number("dilation_angle")};
+        MohrCoulombParameters p{in.number("cohesion"), in.number("friction_angle"), in.number("dilation_angle"),
+                                in.number("hardening"), in.number("residual_cohesion")};
+        if (in.has("tension_cutoff")) p.tension_cutoff = in.number("tension_cutoff");
         in.require(p.dilation_angle <= p.friction_angle, "dilation_angle", in.spec("dilation_angle").expected());
+        in.require(p.residual_cohesion <= p.cohesion, "residual_cohesion", "a residual cohesion <= cohesion");
         const ElasticSolid s = read_elastic_solid(cf, prefix, self);
         return std::make_shared<MohrCoulomb>(s.elasticity, s.density, p);
       }};

@@ -1,42 +1,71 @@
 #pragma once
-// Finite-strain Mohr-Coulomb elasto-plasticity, perfectly plastic, non-associated:
-//   f = k sigma_1 - sigma_3 - sigma_c,  k = (1 + sin phi) / (1 - sin phi),
-//   sigma_c = 2 c cos phi / (1 - sin phi),  potential m sigma_1 - sigma_3 (m from psi),
+// Finite-strain Mohr-Coulomb elasto-plasticity, non-associated, with a softening (or
+// hardening) cohesion and an optional tension cut-off:
+//   f = k sigma_1 - sigma_3 - sigma_c(kappa),  k = (1 + sin phi) / (1 - sin phi),
+//   sigma_c = 2 c(kappa) cos phi / (1 - sin phi),  potential m sigma_1 - sigma_3 (m from psi),
+//   c(kappa) = max(residual_cohesion, cohesion + hardening kappa) (linear; no floor when H > 0),
+//   t = sigma_1 - sigma_t <= 0 (Rankine cut-off, associated),
 // with sigma_1 >= sigma_2 >= sigma_3 the principal Kirchhoff stresses (tension positive).
-// Hencky elasticity and the exponential map as in materials/VonMises.hpp; the return in
+// Hencky elasticity and the exponential map as in materials/VonMises.hpp. The return in
 // principal space goes to the plane, to either edge (sigma_1 = sigma_2 or sigma_2 =
-// sigma_3) or to the apex (Clausen, Damkilde & Andersen 2006, 2007): each is a linear map
-// of the trial stress, and its derivative is the algorithmic tangent. psi < phi gives a
-// non-symmetric tangent, solved as such. eps_p accumulates sqrt(2/3) |d_eps_p|.
-// Not yet: softening of the cohesion, a tension cut-off (issue 10).
+// sigma_3), to the apex (Clausen, Damkilde & Andersen 2006, 2007) or to the cut-off's
+// plane, edges and apex: in sorted principal space every one of these is the closest
+// point (in the energy norm, along the flow directions) of a set of active planes, so the
+// return tries the active sets by size and takes the first that satisfies the
+// Kuhn-Tucker conditions. For a fixed strength each is a linear map of the trial stress;
+// softening adds one scalar equation, sigma_c = sigma_c(kappa(sigma_c)), solved by Newton.
+// The derivative of the whole is the algorithmic tangent; psi < phi gives a non-symmetric
+// tangent, solved as such. eps_p accumulates kappa = int sqrt(2/3) |d eps_p|.
+#include <limits>
+
 #include "gradmpm/materials/PlasticLaw.hpp"
 
 namespace gradmpm {
 
 struct MohrCoulombParameters {
-  double cohesion = 0.0;        ///< c > 0
-  double friction_angle = 0.0;  ///< phi, degrees, > 0
-  double dilation_angle = 0.0;  ///< psi, degrees, <= phi
+  double cohesion = 0.0;                                            ///< c > 0
+  double friction_angle = 0.0;                                      ///< phi, degrees, > 0
+  double dilation_angle = 0.0;                                      ///< psi, degrees, <= phi
+  double hardening = 0.0;                                           ///< H = dc / d kappa; negative: softening
+  double residual_cohesion = 0.0;                                   ///< the floor of softening
+  double tension_cutoff = std::numeric_limits<double>::infinity();  ///< sigma_t >= 0; infinite: none
 };
 
 class MohrCoulomb final : public PlasticLaw {
  public:
-  enum class Region { Elastic, Plane, EdgeCompression, EdgeExtension, Apex };
+  enum class Region { Elastic, Plane, EdgeCompression, EdgeExtension, Apex, Tension };
   MohrCoulomb(const IsotropicElasticity& e, double rho, const MohrCoulombParameters& p);
   std::string model() const override { return "mohr-coulomb"; }
   bool symmetric_tangent() const override { return k_ == m_; }
   void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override;
   void tangent(const MaterialResponse& r, int dim, Mat9& A) const override;
-  /// Which return the last update took (from its response).
+  /// Which return the last update took (from its response); Tension: any return that
+  /// involves the cut-off.
   static Region region(const MaterialResponse& r);
-  /// f at principal stresses sorted descending.
-  double yield(const Eigen::Vector3d& sorted) const { return k_ * sorted[0] - sorted[2] - sigma_c_; }
+  /// f at principal stresses sorted descending, at the strength of kappa.
+  double yield(const Eigen::Vector3d& sorted, double kappa = 0.0) const {
+    return k_ * sorted[0] - sorted[2] - strength(kappa);
+  }
+  /// sigma_c at kappa.
+  double strength(double kappa) const { return 2.0 * std::sqrt(k_) * cohesion_.at(kappa); }
+  double tension_cutoff() const { return sigma_t_; }
+
+  /// The return of a sorted trial stress at the strength sigma_c = s: the stress, its
+  /// derivatives d sigma / d trial (P) and d sigma / d s (g), and the active planes
+  /// (bits 0-5: Mohr-Coulomb's planes k sigma_i - sigma_j, the main one first; 6-8: the
+  /// cut-off's sigma_i = sigma_t).
+  struct Return {
+    unsigned active = 0;
+    Eigen::Vector3d sigma;
+    Mat3 P;
+    Eigen::Vector3d g;
+  };
+  Return return_map(const Eigen::Vector3d& trial, double s) const;
 
  private:
-  /// The return of a sorted trial stress: the stress and d sigma / d sigma_trial.
-  Region return_map(const Eigen::Vector3d& trial, Eigen::Vector3d& sigma, Mat3& dsigma) const;
-  double k_, m_, sigma_c_;
-  Mat3 D_;  ///< principal elasticity lambda 1(x)1 + 2 mu I
+  double k_, m_, sigma_t_;
+  LinearStrength cohesion_;
+  Mat3 D_, D_inv_;  ///< principal elasticity lambda 1(x)1 + 2 mu I and its inverse
 };
 
 }  // namespace gradmpm
