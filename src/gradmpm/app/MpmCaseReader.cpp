@@ -225,6 +225,30 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");
   }
 
+  // --- rigid boxes (mpm/RigidContact.hpp)
+  double young_max = 0.0;
+  for (const auto& mat : m.materials) young_max = std::max(young_max, mat->elasticity().young);
+  const SectionSpec& rigid = mpm_section("rigid_boxes");
+  for (std::size_t c = 0; c < cf.array_size("rigid_boxes"); ++c) {
+    const std::string k = fmt::format("rigid_boxes[{}]", c);
+    const Box<dim> box = read_box<dim>(cf, k);
+    RigidBox<dim> b{cf.has(k + ".name") ? read_string(cf, k, rigid.key("name")) : "", box.lo, box.hi};
+    cf.require(b.name.find_first_of(",\n\"") == std::string::npos, k + ".name",
+               "a name without commas, quotes or newlines");
+    if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
+    b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / h.minCoeff();
+    for (int p = 0; p < m.points.size(); ++p) {
+      bool inside = true;
+      for (int d = 0; d < dim; ++d) {
+        const double x = m.points.position[p][d], l = m.points.half_length[p][d];
+        inside = inside && x + l > b.lo[d] + tol && x - l < b.hi[d] - tol;
+      }
+      cf.require(!inside, k + ".min",
+                 fmt::format("a box that no material point's domain overlaps at the start (point {} does)", p));
+    }
+    m.rigid_boxes.push_back(b);
+  }
+
   // --- point loads
   for (std::size_t c = 0; c < cf.array_size("point_loads"); ++c) {
     const std::string k = fmt::format("point_loads[{}]", c);

@@ -85,29 +85,41 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
     out.commit();
   };
   // Named constraint blocks: reaction (sum over the nodes) and mean displacement (the
-  // nodes' increments summed over the steps).
+  // nodes' increments summed over the steps); named rigid boxes: contact force and displacement.
   std::string reactions = "step,load,name,rx,ry,rz,ux,uy,uz\n";
   std::vector<Vec<dim>> block_u(m.node_sets.size(), Vec<dim>::Zero());
+  bool reports = !m.node_sets.empty();
+  for (const auto& b : m.rigid_boxes) reports = reports || !b.name.empty();
   auto react = [&](const StepInfo& info) {
-    if (m.node_sets.empty()) return;
-    const Vector R = info.grid_reaction(), du = info.grid_displacement();
-    for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
-      const auto& set = m.node_sets[b];
-      Vec<dim> r = Vec<dim>::Zero(), mean = Vec<dim>::Zero();
-      for (int n : set.nodes)
-        for (int d = 0; d < dim; ++d) {
-          r[d] += R[n * dim + d];
-          mean[d] += du[n * dim + d];
-        }
-      block_u[b] += mean / static_cast<double>(set.nodes.size());
+    if (!reports) return;
+    auto row = [&](const std::string& name, const Vec<dim>& r, const Vec<dim>& u) {
       double rv[3] = {0, 0, 0}, uv[3] = {0, 0, 0};
       for (int d = 0; d < dim; ++d) {
         rv[d] = r[d];
-        uv[d] = block_u[b][d];
+        uv[d] = u[d];
       }
-      fmt::format_to(std::back_inserter(reactions), "{},{},{},{},{},{},{},{},{}\n", info.step, info.load_factor,
-                     set.name, rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
+      fmt::format_to(std::back_inserter(reactions), "{},{},{},{},{},{},{},{},{}\n", info.step, info.load_factor, name,
+                     rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
+    };
+    if (!m.node_sets.empty()) {
+      const Vector R = info.grid_reaction(), du = info.grid_displacement();
+      for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
+        const auto& set = m.node_sets[b];
+        Vec<dim> r = Vec<dim>::Zero(), mean = Vec<dim>::Zero();
+        for (int n : set.nodes)
+          for (int d = 0; d < dim; ++d) {
+            r[d] += R[n * dim + d];
+            mean[d] += du[n * dim + d];
+          }
+        block_u[b] += mean / static_cast<double>(set.nodes.size());
+        row(set.name, r, block_u[b]);
+      }
     }
+    // Rigid boxes: the force each exerts on the body, and its displacement.
+    const Vector F = m.rigid_boxes.empty() ? Vector() : info.rigid_forces();
+    for (std::size_t b = 0; b < m.rigid_boxes.size(); ++b)
+      if (!m.rigid_boxes[b].name.empty())
+        row(m.rigid_boxes[b].name, F.template segment<dim>(b * dim), info.load_factor * m.rigid_boxes[b].total);
   };
   auto track = [&](int step, double lambda) {
     tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
@@ -131,7 +143,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       StagedOutputs out(dir);
       out.write_text("newton_history.csv", history);
       if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
-      if (!m.node_sets.empty()) out.write_text("reactions.csv", reactions);
+      if (reports) out.write_text("reactions.csv", reactions);
       out.commit();
       if (!quiet) print_step<dim>(info);
     });
@@ -148,7 +160,7 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
     if (!quiet)
       fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps,
                  summary.total_iterations, summary.cuts, seconds_since(t0));
-    if (!m.node_sets.empty() && output.plot) {
+    if (reports && output.plot) {
       StagedOutputs out(dir);
       const auto csv = out.write_text("reactions.csv", reactions);
       const auto png = out.stage("load_displacement.png");

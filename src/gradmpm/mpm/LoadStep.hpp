@@ -14,6 +14,7 @@
 #include "gradmpm/mpm/FBar.hpp"
 #include "gradmpm/mpm/GhostPenalty.hpp"
 #include "gradmpm/mpm/Model.hpp"
+#include "gradmpm/mpm/RigidContact.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
 
@@ -52,6 +53,9 @@ class LoadStep {
         ghost_(m.ghost_penalty > 0.0
                    ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty)
                    : nullptr),
+        contact_(m.rigid_boxes.empty()
+                     ? nullptr
+                     : std::make_unique<RigidContact<dim>>(m.rigid_boxes, m.points, st_, dofs_, lambda_end)),
         pattern_(make_pattern()),
         assembler_(st_, m.points, dofs_, &m.grid),
         response_(m.points.size()),
@@ -128,6 +132,7 @@ class LoadStep {
     if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
     scatter_internal_force(f_int);
     if (ghost_) ghost_->add_force(dofs_, du, f_int);
+    if (contact_) contact_->add_force(du, f_int);
   }
 
   /// f_int,i = sum_p w_p stress_p grad N_i, by buckets of points with disjoint nodes.
@@ -177,6 +182,7 @@ class LoadStep {
     });
     if (fbar_) add_fbar_coupling(K);
     if (ghost_) ghost_->add_matrix(dofs_, K);
+    if (contact_) contact_->add_matrix(K);
   }
 
   /// Eq. (2): maps the converged increment to the points and updates their state.
@@ -234,6 +240,13 @@ class LoadStep {
     return u;
   }
   Vector grid_reaction() const { return on_grid(f_int_converged_ - f_ext_); }
+  /// The force of each rigid box on the body at the converged iterate (dim per box).
+  Vector rigid_forces() const {
+    Vector f = Vector::Zero(static_cast<Eigen::Index>(model_.rigid_boxes.size()) * dim);
+    for (std::size_t b = 0; contact_ && b < model_.rigid_boxes.size(); ++b)
+      for (int i = 0; i < dim; ++i) f[b * dim + i] = contact_->force(static_cast<int>(b))[i];
+    return f;
+  }
 
   /// Nodal mass sum_p N_i m_p at every grid node.
   Vector grid_mass() const {
@@ -307,6 +320,7 @@ class LoadStep {
     }
     scatter_internal_force(f_int);
     if (ghost_) ghost_->add_force(dofs_, du, f_int);
+    if (contact_) contact_->add_force(du, f_int);
   }
 
   /// A -> A - Q (x) I (the local part of the F-bar tangent); keeps Q_p for the coupling.
@@ -359,7 +373,8 @@ class LoadStep {
   PointStencils<dim> st_;
   DofMap dofs_;
   std::unique_ptr<FBarCells<dim>> fbar_;
-  std::unique_ptr<GhostFaces<dim>> ghost_;  ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
+  std::unique_ptr<GhostFaces<dim>> ghost_;      ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
+  std::unique_ptr<RigidContact<dim>> contact_;  ///< rigid boxes' contacts (mpm/RigidContact.hpp); null without
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;
   SparseMatrix pattern_;

@@ -29,6 +29,16 @@ struct NamedNodeSet {
   std::vector<int> nodes;
 };
 
+/// A rigid, frictionless, axis-aligned box pushing the material points by penalty contact
+/// (a footing, a platen, an indenter; mpm/RigidContact.hpp).
+template <int dim>
+struct RigidBox {
+  std::string name;                   ///< reported in reactions.csv when not empty
+  Vec<dim> lo, hi;                    ///< the box at load factor 0
+  Vec<dim> total = Vec<dim>::Zero();  ///< its displacement at load factor 1
+  double stiffness = 0.0;             ///< k: contact pressure per unit penetration
+};
+
 template <int dim>
 struct Model {
   Grid<dim> grid;
@@ -40,6 +50,7 @@ struct Model {
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
   std::vector<NodalConstraint> constraints;
   std::vector<NamedNodeSet> node_sets;
+  std::vector<RigidBox<dim>> rigid_boxes;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}
 
@@ -130,6 +141,8 @@ struct StepInfo {
   /// f_int - f_ext at the converged iterate at every grid node (dim per node): the
   /// reaction forces on constrained components (~0 elsewhere; zero on inactive nodes).
   std::function<Vector()> grid_reaction;
+  /// The force each rigid box exerts on the body at the converged iterate (dim per box).
+  std::function<Vector()> rigid_forces;
   double seconds = 0.0;        ///< the load step, its cuts included, without the post-step stages
   double stage_seconds = 0.0;  ///< the post-step stages
   PhaseTimes phases;           ///< of the converged attempt

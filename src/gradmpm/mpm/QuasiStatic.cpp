@@ -149,6 +149,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.grid_displacement = [&] { return step->on_grid(du); };
     info.grid_reaction = [&] { return step->grid_reaction(); };
     info.grid_mass = [&] { return step->grid_mass(); };
+    info.rigid_forces = [&] { return step->rigid_forces(); };
     summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
     const auto t_stages = Clock::now();
     for (PostStepStage<dim>* stage : stages) stage->after_step(model, info);
