@@ -37,7 +37,9 @@ int mpm_case_dimension(const CaseFile& cf);
 template <int dim>
 MpmCase<dim> read_mpm_case(CaseFile& cf);
 
-/// Reads, runs and writes the outputs of an MPM case in `out_dir`.
-void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet);
+/// Reads, runs and writes the outputs of an MPM case in `out_dir`; messages name `shown`
+/// (the folder the outputs are published to; default out_dir).
+void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet,
+                  const std::filesystem::path& shown = {});
 
 }  // namespace gradmpm

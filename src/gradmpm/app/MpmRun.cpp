@@ -55,7 +55,7 @@ void print_step(const StepInfo& info) {
 }
 
 template <int dim>
-void run(CaseFile& cf, const fs::path& dir, bool quiet) {
+void run(CaseFile& cf, const fs::path& dir, bool quiet, const fs::path& shown) {
   MpmCase<dim> c = read_mpm_case<dim>(cf);
   Model<dim>& m = c.model;
   const MpmOutputSettings& output = c.output;
@@ -172,23 +172,23 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet) {
       const std::string line = column_check(m, dir, output.plot);
       if (!quiet) fmt::print("  {}\n", line);
     }
-    if (!quiet) fmt::print("  wrote {}/points_final.csv, newton_history.csv, points.pvd, grid.pvd\n", dir.string());
   } catch (const SolverError&) {
-    if (!quiet) fmt::print("  stopped; the files of the converged steps in {} are complete\n", dir.string());
+    if (!quiet) fmt::print("  stopped; the files of the converged steps go to {}\n", shown.string());
     throw;
   }
 }
 
 }  // namespace
 
-void run_mpm_case(CaseFile& cf, const fs::path& out_dir, bool quiet) {
+void run_mpm_case(CaseFile& cf, const fs::path& out_dir, bool quiet, const fs::path& shown) {
+  const fs::path& name = shown.empty() ? out_dir : shown;
   switch (mpm_case_dimension(cf)) {
     case 1:
-      return run<1>(cf, out_dir, quiet);
+      return run<1>(cf, out_dir, quiet, name);
     case 2:
-      return run<2>(cf, out_dir, quiet);
+      return run<2>(cf, out_dir, quiet, name);
     default:
-      return run<3>(cf, out_dir, quiet);
+      return run<3>(cf, out_dir, quiet, name);
   }
 }
 

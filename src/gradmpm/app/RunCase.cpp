@@ -5,6 +5,7 @@
 #include "gradmpm/app/BarCase.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/io/RunFolder.hpp"
 #include "gradmpm/io/StagedOutputs.hpp"
 
 namespace gradmpm {
@@ -39,7 +40,6 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
   else
     fmt::print("  time: assembly {:.3g} s, classical solve {:.3g} s, gradient step {:.3g} s, recovery {:.3g} s\n",
                r.timings.assembly_s, r.timings.classical_solve_s, r.timings.gradient_s, r.timings.recovery_s);
-  for (const auto& f : out.committed()) fmt::print("  wrote {}\n", f.string());
 }
 }  // namespace
 
@@ -51,10 +51,23 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
   if (bar && mpm)
     throw InputError(
         fmt::format("{}: both [bar] and [grid]: a case is either the 1D bar or an MPM analysis", cf.name()));
-  if (bar) return run_bar(cf, out_dir, options.quiet);
-  if (mpm) return run_mpm_case(cf, out_dir, options.quiet);
-  throw InputError(
-      fmt::format("{}: no problem section found; expected [bar] (1D bar) or [grid] (MPM) (see examples/)", cf.name()));
+  if (!bar && !mpm)
+    throw InputError(fmt::format(
+        "{}: no problem section found; expected [bar] (1D bar) or [grid] (MPM) (see examples/)", cf.name()));
+  // The run writes into a staging folder and publishes it whole (io/RunFolder.hpp): a
+  // numerical failure publishes its converged steps; anything else leaves out_dir as it was.
+  RunFolder folder(out_dir);
+  try {
+    if (bar)
+      run_bar(cf, folder.staging(), options.quiet);
+    else
+      run_mpm_case(cf, folder.staging(), options.quiet, out_dir);
+  } catch (const SolverError&) {
+    folder.publish();
+    throw;
+  }
+  folder.publish();
+  if (!options.quiet) fmt::print("  wrote {}: {}\n", out_dir.string(), folder.summary());
 }
 
 }  // namespace gradmpm
