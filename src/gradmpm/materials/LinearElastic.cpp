@@ -11,7 +11,10 @@ LinearElastic::LinearElastic(double E, double nu, double rho)
 std::string LinearElastic::model() const { return "linear-elastic"; }
 
 void LinearElastic::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {
-  const Mat3 g = dF - Mat3::Identity();
+  update_increment(dF - Mat3::Identity(), state_n, state, out);
+}
+
+void LinearElastic::update_increment(const Mat3& g, const double* state_n, double* state, MaterialResponse& out) const {
   const Mat3 eps = unpack_symmetric(state_n) + 0.5 * (g + g.transpose());
   out.stress = contract(D_, eps);
   pack_symmetric(eps, state);

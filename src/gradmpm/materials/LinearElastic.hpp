@@ -13,6 +13,7 @@ class LinearElastic final : public ElasticStrainHistory {
   /// The tangent is D at every state.
   void tangent(const MaterialResponse&, int, Mat9& A) const override { A = D_; }
   void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override;
+  void update_increment(const Mat3& g, const double* state_n, double* state, MaterialResponse& out) const override;
 
  private:
   Mat9 D_;

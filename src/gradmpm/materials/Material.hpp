@@ -69,6 +69,12 @@ class Material {
   /// `state_n`: the history at the start of the step (state_size() values); `state`:
   /// where the new history goes. Fills `out` for tangent().
   virtual void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const = 0;
+  /// update() from the increment's displacement gradient g = dF - I, as the driver has it.
+  /// Small-strain laws use g as it is: forming I + g first rounds a strain of 1e-8 to
+  /// 8 digits, and Newton's relative residual then floors at 1e-16 / |g|.
+  virtual void update_increment(const Mat3& g, const double* state_n, double* state, MaterialResponse& out) const {
+    update(Mat3::Identity() + g, state_n, state, out);
+  }
   /// The consistent tangent at the state `r` that update() returned:
   /// A_ijkl with d(stress_ij grad_j eta_i) = grad_j eta_i A_ijkl grad_l du_k.
   /// Entries with every index below `dim` are computed (plane strain and 1D need no

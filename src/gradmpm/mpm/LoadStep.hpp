@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -83,6 +85,15 @@ class LoadStep {
   const std::vector<int>& constrained() const { return constrained_; }
   const std::vector<double>& increments() const { return increments_; }
   const SparseMatrix& pattern() const { return pattern_; }
+  /// The round-off of the internal force: 100 eps_mach E h^(dim-1) sqrt(dofs), the norm of
+  /// nodal forces from a stress error of eps_mach E (what the strain of a step cannot
+  /// resolve). Newton stops below it whatever the relative residual says (tiny strains).
+  double roundoff_force() const {
+    double young = 0.0;
+    for (const auto& m : model_.materials) young = std::max(young, m->elasticity().young);
+    const double area = model_.grid.cell_size().prod() / model_.grid.cell_size().maxCoeff();
+    return 100.0 * std::numeric_limits<double>::epsilon() * young * area * std::sqrt(double(dofs_.num_dofs()));
+  }
   bool symmetric_tangent() const { return model_.symmetric_tangent(); }
 
   /// Point loop for the iterate du: material updates (stress and history) and the
@@ -101,7 +112,8 @@ class LoadStep {
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
-      const Mat3 dF = Mat3::Identity() + increment_gradient(s, dofs_, du);
+      const Mat3 g = increment_gradient(s, dofs_, du);
+      const Mat3 dF = Mat3::Identity() + g;
       const double detdF = dF.determinant();
       if (!(detdF > 0.0)) {
 #pragma omp critical
@@ -112,8 +124,8 @@ class LoadStep {
         continue;
       }
       const Material& mat = model_.material_of(p);
-      mat.update(dF, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride,
-                 response_[p]);
+      mat.update_increment(g, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride,
+                           response_[p]);
       auto& G = grads_[p];  // gradients in the configuration the stress lives in
       if (mat.finite_strain()) {
         const Mat3 inv = dF.inverse();

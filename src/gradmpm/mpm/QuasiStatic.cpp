@@ -35,6 +35,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
   std::unique_ptr<LinearSolver> general;  // made when a tangent is not positive definite
   Vector f_int;
   SparseMatrix K;
+  const double floor = step.roundoff_force();
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
     step.internal_force(du, f_int);
@@ -50,7 +51,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
     }
     residuals.push_back(err);
     if (!std::isfinite(err)) throw StepFailure{"the out-of-balance force is not finite"};
-    if (err < settings.tolerance) {
+    // Converged: relative to the forces, or (after the first iterate) at the round-off of
+    // the internal force, which a tiny strain cannot beat.
+    if (err < settings.tolerance || (it > 0 && r.norm() < floor)) {
       step.keep_converged_force(f_int);
       return du;
     }
