@@ -60,7 +60,7 @@ TEST(CaseFile, SetOverridesAnyKey) {
 TEST(CaseFile, MessagesNameFileKeyAndExpectation) {
   EXPECT_EQ(error_of({"bar.length=-1"}), "case.toml: bar.length (from --set): expected a length > 0, got -1");
   EXPECT_EQ(error_of({"bar.elements=0"}),
-            "case.toml: bar.elements (from --set): expected an integer from 1 to 50000000, got 0");
+            "case.toml: bar.elements (from --set): expected an integer from 1 to 5000000, got 0");
   EXPECT_EQ(error_of({"bar.elements=8.5"}), "case.toml: bar.elements (from --set): expected an integer, got 8.5");
   EXPECT_EQ(error_of({"bar.length=ten"}), "case.toml: bar.length (from --set): expected a number, got \"ten\"");
   EXPECT_EQ(error_of({"gradient.length_scale=-0.5"}),

@@ -1,4 +1,5 @@
 #include "gradmpm/app/BarCase.hpp"
+#include "gradmpm/app/MemoryCheck.hpp"
 
 #include <fmt/format.h>
 
@@ -37,6 +38,8 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* 
   c.young_right = young[1];
   c.end_displacement = read_number(cf, "bar", bar.key("end_displacement"));
   c.points_per_element = static_cast<int>(read_integer(cf, "bar", bar.key("points_per_element")));
+  require_memory(cf, "bar.elements", bar_memory_estimate(c.elements, c.points_per_element, mpm != nullptr),
+                 fmt::format("{} elements, {} points each{}", c.elements, c.points_per_element, mpm ? ", as MPM" : ""));
 
   const SectionSpec& gradient = bar_gradient_section();
   c.variant = *parse_gradient_variant(read_string(cf, "gradient", gradient.key("variant")));

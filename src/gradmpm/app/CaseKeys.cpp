@@ -86,7 +86,7 @@ const SectionSpec& bar_section() {
   static const SectionSpec s{
       "bar", SectionKind::Section, true, "the bi-material bar of the paper (Figure 2)",
       {{.name = "length", .type = K::Number, .min = 0.0, .min_open = true, .allowed = "a length > 0", .doc = "bar length L"},
-       {.name = "elements", .type = K::Integer, .min = 1.0, .max = 5e7,
+       {.name = "elements", .type = K::Integer, .min = 1.0, .max = 5e6,
         .doc = "cells of the background grid (linear elements)"},
        {.name = "split", .type = K::Number, .min = 0.0, .max = 1.0, .min_open = true, .max_open = true,
         .allowed = "a fraction of the length strictly between 0 and 1",

@@ -10,6 +10,7 @@
 
 #include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/app/CommonKeys.hpp"
+#include "gradmpm/app/MemoryCheck.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
@@ -88,6 +89,15 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   else
     h.setConstant(cf.number("grid.cell_size"));
   cf.require((h.array() > 0.0).all(), "grid.cell_size", mpm_section("grid").key("cell_size").expected());
+  // Sizes in 64 bits before anything is allocated: the dofs are numbered in 32-bit ints.
+  double nodes = 1.0;
+  for (int d = 0; d < dim; ++d) nodes *= static_cast<double>(cells[d]) + 1.0;
+  cf.require(nodes * dim < 2147483647.0, "grid.cells",
+             fmt::format("a grid of at most {:.4g} nodes ({} dofs per node, numbered in 32 bits); this one has {:.4g}",
+                         std::floor(2147483647.0 / dim), dim, nodes));
+  const bool grid_output = cf.number_or("output.vtk_every", 1.0) > 0.0;
+  require_memory(cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output),
+                 fmt::format("{:.3g} grid nodes{}", nodes, grid_output ? " written to grid VTU files" : ""));
   Model<dim> m(Grid<dim>(origin, h, n));
   Vec<dim> grid_hi;
   for (int d = 0; d < dim; ++d) grid_hi[d] = origin[d] + n[d] * h[d];
@@ -114,6 +124,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   const std::size_t nb = cf.array_size("bodies");
   if (nb == 0)
     throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
+  double planned_points = 0.0, planned_cells = 0.0;
   for (std::size_t b = 0; b < nb; ++b) {
     const std::string k = fmt::format("bodies[{}]", b);
     const std::string mat = cf.string(k + ".material");
@@ -150,6 +161,16 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
       first[d] = std::max(0, static_cast<int>(std::floor((box.lo[d] - origin[d]) / h[d])));
       last[d] = std::min(n[d], static_cast<int>(std::ceil((box.hi[d] - origin[d]) / h[d])));
     }
+    // The memory this body brings (with the bodies before it), before its points exist.
+    double body_cells = 1.0;
+    for (int d = 0; d < dim; ++d) body_cells *= std::max(0, last[d] - first[d]);
+    planned_cells += body_cells;
+    planned_points += body_cells * std::pow(static_cast<double>(ppc), dim);
+    require_memory(cf, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
+                   mpm_memory_estimate(dim, planned_points, planned_cells, nodes, grid_output),
+                   fmt::format("{:.3g} points, {:.3g} grid nodes", planned_points, nodes));
+    cf.require(planned_points < 2147483647.0, k + ".points_per_cell",
+               fmt::format("at most 2^31 points in all; these bodies have {:.4g}", planned_points));
     const int added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
                                               m.materials[mat_id]->density(), m.points);
     cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),

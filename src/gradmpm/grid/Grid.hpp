@@ -6,7 +6,9 @@
 // Node numbering is lexicographic with x fastest: n = i + (nx+1) * (j + (ny+1) * k).
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "gradmpm/core/Types.hpp"
 
@@ -19,12 +21,17 @@ class Grid {
 
   Grid(const Vec<dim>& origin, const Vec<dim>& cell_size, const Index& cells)
       : origin_(origin), h_(cell_size), cells_(cells) {
-    num_nodes_ = 1;
-    num_cells_ = 1;
+    // Counted in 64 bits: node and cell numbers are ints, so a larger grid is refused here
+    // (case files are checked with a message before: app/MpmCaseReader.cpp).
+    long long nodes = 1, cells_total = 1;
     for (int d = 0; d < dim; ++d) {
-      num_nodes_ *= cells_[d] + 1;
-      num_cells_ *= cells_[d];
+      nodes *= static_cast<long long>(cells_[d]) + 1;
+      cells_total *= cells_[d];
+      if (cells_[d] < 1 || nodes > std::numeric_limits<int>::max())
+        throw std::length_error("Grid: the node count does not fit in an int");
     }
+    num_nodes_ = static_cast<int>(nodes);
+    num_cells_ = static_cast<int>(cells_total);
   }
 
   const Vec<dim>& origin() const { return origin_; }
