@@ -110,6 +110,10 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   if (names.empty())
     throw InputError(fmt::format("{}: missing section [materials.NAME] (at least one material)", cf.name()));
   for (const auto& name : names) {  // each law reads its own keys
+    // A dot would read as a key path (materials.so.il.model): refuse it by name.
+    if (name.find('.') != std::string::npos || name.find_first_of("\n\r\t") != std::string::npos)
+      throw InputError(fmt::format("{}: [materials.\"{}\"]: expected a material name without dots or line breaks",
+                                   cf.name(), name.find('.') != std::string::npos ? name : std::string("...")));
     const std::string k = "materials." + name;
     const std::string model = read_string(cf, k, mpm_section("materials").key("model"));
     const MaterialInfo* law = MaterialRegistry::instance().find(model);
@@ -125,6 +129,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   if (nb == 0)
     throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
   double planned_points = 0.0, planned_cells = 0.0;
+  std::vector<std::function<bool(const Vec<dim>&)>> earlier_bodies;  // their insides, strict
   for (std::size_t b = 0; b < nb; ++b) {
     const std::string k = fmt::format("bodies[{}]", b);
     const std::string mat = cf.string(k + ".material");
@@ -171,8 +176,20 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
                    fmt::format("{:.3g} points, {:.3g} grid nodes", planned_points, nodes));
     cf.require(planned_points < 2147483647.0, k + ".points_per_cell",
                fmt::format("at most 2^31 points in all; these bodies have {:.4g}", planned_points));
+    const int before = m.points.size();
     const int added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
                                               m.materials[mat_id]->density(), m.points);
+    // Overlapping bodies would put two points' mass and stiffness in one place: refused.
+    for (int p = before; p < m.points.size(); ++p)
+      for (std::size_t e = 0; e < earlier_bodies.size(); ++e)
+        cf.require(!earlier_bodies[e](m.points.position[p]), k + (cf.has(k + ".polygon") ? ".polygon" : ".min"),
+                   fmt::format("a body that does not overlap bodies[{}] (its point at ({:.6g}) lies inside it: "
+                               "mass and stiffness would count twice there)",
+                               e, fmt::join(m.points.position[p].data(), m.points.position[p].data() + dim, ", ")));
+    if (cf.has(k + ".polygon"))
+      earlier_bodies.push_back(inside);
+    else
+      earlier_bodies.push_back([box, h](const Vec<dim>& x) { return box.contains(x, -1e-9 * h.minCoeff()); });
     cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
                "a body holding at least one material point (it is smaller than a sub-cell)");
   }

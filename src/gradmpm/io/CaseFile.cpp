@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -13,13 +14,45 @@
 namespace gradmpm {
 
 namespace {
+/// Text for a one-line message: control characters escaped (\n, \t, \xNN).
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\t')
+      out += "\\t";
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
+    else
+      out += c;
+  }
+  return out;
+}
+
+/// A value as one line: toml++ prints some arrays over several lines, which a message
+/// folds back (runs of whitespace with a newline become one space).
 std::string show(const toml::node& n) {
   std::ostringstream os;
   if (const auto* s = n.as_string())
     os << '"' << s->get() << '"';
   else
     n.visit([&](const auto& v) { os << v; });
-  std::string text = os.str();
+  std::string text;
+  if (n.is_string()) {
+    text = printable(os.str());
+  } else {
+    const std::string raw = os.str();
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      if (raw[i] == '\n' || raw[i] == '\r') {
+        while (i + 1 < raw.size() && std::isspace(static_cast<unsigned char>(raw[i + 1]))) ++i;
+        if (!text.empty() && text.back() != ' ') text += ' ';
+        continue;
+      }
+      text += raw[i];
+    }
+    text = printable(text);
+  }
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   return text;
 }
@@ -44,6 +77,10 @@ std::string join(const std::vector<std::string>& v) {
 }  // namespace
 
 CaseFile CaseFile::load(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw InputError(
+        fmt::format("{}: is a folder, not a case file (expected a .toml file, see examples/)", file.string()));
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open case file ({})", file.string(), std::strerror(errno)));
   std::stringstream buffer;
@@ -65,6 +102,10 @@ CaseFile CaseFile::parse(std::string_view text, std::string name, const std::vec
 }
 
 void CaseFile::apply_override(const std::string& assignment) {
+  // One line: TOML would read "80\nsplit = 0.9" as the value 80 and drop the rest.
+  if (assignment.find_first_of("\n\r") != std::string::npos)
+    throw InputError(
+        fmt::format("--set '{}': expected one line section.key=value (it holds a line break)", printable(assignment)));
   const std::size_t eq = assignment.find('=');
   const std::string key = assignment.substr(0, eq);
   const auto parts = split_key(key);
@@ -216,8 +257,8 @@ void CaseFile::reject_unknown() const {
 }
 
 std::string CaseFile::where(const std::string& key) const {
-  if (overridden_.count(key)) return fmt::format("{}: {} (from --set)", name_, key);
-  return fmt::format("{}: {}", name_, key);
+  if (overridden_.count(key)) return fmt::format("{}: {} (from --set)", name_, printable(key));
+  return fmt::format("{}: {}", name_, printable(key));
 }
 
 const toml::node* CaseFile::find(const std::string& key) const { return table_.at_path(key).node(); }
