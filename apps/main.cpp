@@ -8,13 +8,31 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <omp.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <exception>
 
 #include "gradmpm/app/KeysDoc.hpp"
 #include "gradmpm/app/RunCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 
+namespace {
+// GNU OpenMP's idle threads spin while they wait for work: on a machine shared with other
+// processes that made runs 10-25x slower than one thread (issue 12). libgomp reads
+// OMP_WAIT_POLICY when it is loaded, before main, so the first start sets it to passive and
+// executes itself again. A user's own OMP_WAIT_POLICY is kept.
+void prefer_passive_openmp(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GRADMPM_KEEP_OPENMP")) return;
+  ::setenv("OMP_WAIT_POLICY", "passive", 1);
+  ::setenv("GRADMPM_KEEP_OPENMP", "1", 1);  // never twice, whatever exec does
+  ::execv("/proc/self/exe", argv);          // returns only when it fails: run on as we are
+}
+}  // namespace
+
 int main(int argc, char** argv) {
+  prefer_passive_openmp(argv);
   CLI::App app{
       "gradmpm: implicit quasi-static Material Point Method with Ru-Aifantis gradient elasticity.\n"
       "Each analysis is described by a TOML case file (see examples/ and docs/case-files.md)."};
@@ -34,6 +52,10 @@ int main(int argc, char** argv) {
                   "(repeatable; the value is read as TOML, or as a plain string)")
       ->type_name("KEY=VALUE");
   run->add_flag("-q,--quiet", options.quiet, "print nothing on success");
+  int threads = 0;
+  run->add_option("-j,--threads", threads,
+                  "OpenMP threads of the point loops and the solvers (default: OMP_NUM_THREADS, else every core)")
+      ->check(CLI::Range(1, 1024));
 
   std::string keys_kind = "mpm";
   CLI::App* keys = app.add_subcommand(
@@ -57,6 +79,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (run->parsed() && threads > 0) omp_set_num_threads(threads);
     if (run->parsed()) gradmpm::run_case(case_file, options);
     if (keys->parsed() && update_doc.empty()) fmt::print("{}", gradmpm::keys_markdown(keys_kind));
     if (keys->parsed() && !update_doc.empty()) gradmpm::update_generated_keys(update_doc);

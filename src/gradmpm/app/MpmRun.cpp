@@ -6,6 +6,9 @@
 //   points_final.csv, points_gradient.csv                  at the end
 //   column_check.csv, column.png                           with output.check = "column"
 #include <fmt/format.h>
+#include <omp.h>
+
+#include <cstdlib>
 
 #include "gradmpm/app/ColumnCheck.hpp"
 #include "gradmpm/app/MpmCase.hpp"
@@ -125,8 +128,11 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet, const fs::path& shown) {
     tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
   };
   if (!quiet)
-    fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s)\n", dim, m.points.size(),
-               m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps);
+    fmt::print(
+        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {} thread(s) (OpenMP {})\n",
+        dim, m.points.size(), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps, omp_get_max_threads(),
+        std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
+                                       : std::string("waiting by default"));
   if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
   track(0, 0.0);
 
