@@ -252,11 +252,14 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
         if (s.name == name) named = &s;
       if (!named) named = &m.node_sets.emplace_back(NamedNodeSet{name, {}});
     }
+    if (static_cast<int>(comps.size()) < dim)
+      for (int d : comps)
+        if (sel.hi[d] - sel.lo[d] <= tol) m.roller_planes.push_back({d, sel.lo[d]});
     int selected = 0;
     for (int node = 0; node < m.grid.num_nodes(); ++node) {
       if (!sel.contains(m.grid.node_position(node), tol)) continue;
       ++selected;
-      for (int comp : comps) m.constraints.push_back({node, comp, disp[comp]});
+      for (int comp : comps) m.constraints.push_back({node, comp, disp[comp], static_cast<int>(comps.size()) < dim});
       if (named && std::find(named->nodes.begin(), named->nodes.end(), node) == named->nodes.end())
         named->nodes.push_back(node);
     }

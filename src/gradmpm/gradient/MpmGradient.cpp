@@ -33,6 +33,9 @@ class SmoothingContext {
   /// components that can be non-zero in `dim` (in-plane ones and the out-of-plane
   /// diagonal) are loaded in one pass over the points, solved in one sweep and
   /// interpolated back in one pass.
+  /// On a roller (a symmetry plane, a frictionless support: some but not all components
+  /// held) with normal d, a shear component (i, j) with i or j = d is odd across the plane:
+  /// it is held at zero there, the other components keep the natural condition.
   std::vector<Mat3> smooth_tensor(const std::vector<Mat3>& t) {
     std::vector<std::array<int, 2>> comps;
     for (const auto& c : kSymmetricComponents)
@@ -40,11 +43,40 @@ class SmoothingContext {
     const int nc = static_cast<int>(comps.size());
     if (!natural_)
       natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_);
-    const Eigen::MatrixXd G = natural_->smooth_loads(
-        assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); }));
+    Eigen::MatrixXd F = assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); });
+    Eigen::MatrixXd G = natural_->smooth_loads(F);
+    for (int j = 0; j < nc; ++j) {
+      const std::vector<int> zero = odd_dofs(comps[j][0], comps[j][1]);
+      if (zero.empty()) continue;
+      auto& sm = by_constraints_[zero];
+      if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, zero, backend_);
+      Eigen::MatrixXd f = F.col(j);
+      for (int d : zero) f(d, 0) = 0.0;
+      G.col(j) = sm->smooth_loads(f).col(0);
+    }
     std::vector<Mat3> out(t.size(), Mat3::Zero());
     assembler_.interpolate_columns(
         G, [&](int p, int j, double v) { out[p](comps[j][0], comps[j][1]) = out[p](comps[j][1], comps[j][0]) = v; });
+    return out;
+  }
+
+  /// The equations of the roller nodes across which component (i, j) is odd (none for
+  /// i = j): nodes of a roller block (some but not all components held) holding i or j,
+  /// and held nodes of other blocks on the plane of such a roller (where a symmetry plane
+  /// meets a fixed base). Elsewhere a fixed support (no slip) keeps the natural condition.
+  std::vector<int> odd_dofs(int i, int j) const {
+    if (i == j) return {};
+    std::vector<int> out;
+    const double tol = 1e-9 * model_.grid.cell_size().minCoeff();
+    for (const auto& k : model_.constraints) {
+      if (!dofs_.active(k.node)) continue;
+      bool odd = k.roller && (k.component == i || k.component == j);
+      for (const auto& [axis, at] : model_.roller_planes)
+        odd = odd || ((axis == i || axis == j) && std::abs(model_.grid.node_position(k.node)[axis] - at) <= tol);
+      if (odd) out.push_back(dofs_.dof(k.node, 0));
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;
   }
 

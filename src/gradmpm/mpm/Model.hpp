@@ -21,6 +21,7 @@ struct NodalConstraint {
   int node;
   int component;
   double total = 0.0;
+  bool roller = false;  ///< from a block that holds some but not all components (symmetry, frictionless)
 };
 
 /// Grid nodes whose reaction force and displacement are reported (a named [[constraints]] block).
@@ -49,6 +50,10 @@ struct Model {
   double ghost_penalty = 0.0;           ///< alpha of the ghost stabilisation (mpm/GhostPenalty.hpp); 0 = off
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
   std::vector<NodalConstraint> constraints;
+  /// Planes x_axis = position of roller blocks that hold their normal component (symmetry
+  /// planes, frictionless supports): the gradient step holds the odd shear components at
+  /// zero on their nodes, fixed-support nodes on them included.
+  std::vector<std::pair<int, double>> roller_planes;
   std::vector<NamedNodeSet> node_sets;
   std::vector<RigidBox<dim>> rigid_boxes;
 
