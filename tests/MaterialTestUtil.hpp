@@ -1,6 +1,8 @@
 #pragma once
 // Shared by the constitutive tests: update() from a full state block, the consistent
 // tangent, and its central-difference check along dF -> (I + h E_kl) dF.
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "gradmpm/materials/Material.hpp"
@@ -41,6 +43,20 @@ inline Mat9 finite_difference_tangent(const Material& m, const Mat3& dF, const s
         for (int j = 0; j < 3; ++j) A(3 * i + j, 3 * k + l) = dtau(i, j) - r0.stress(i, l) * (j == k);
     }
   return A;
+}
+
+/// dF with principal logarithmic strains `eps` in a rotated frame: from eps_n = 0 the
+/// trial strains are exactly eps.
+inline Mat3 stretch(const Eigen::Vector3d& eps) {
+  const Mat3 Q = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY()))
+                     .toRotationMatrix();
+  return Q * eps.array().exp().matrix().asDiagonal() * Q.transpose();
+}
+
+/// Principal values of a symmetric tensor, largest first.
+inline Eigen::Vector3d sorted_principal(const Mat3& tau) {
+  Eigen::SelfAdjointEigenSolver<Mat3> e(tau);
+  return {e.eigenvalues()[2], e.eigenvalues()[1], e.eigenvalues()[0]};
 }
 
 }  // namespace gradmpm::test

@@ -1,6 +1,8 @@
 #pragma once
 // Shared model builders of the MPM tests.
+#include <Eigen/Dense>
 #include <memory>
+#include <random>
 
 #include <string>
 
@@ -9,6 +11,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/LinearElastic.hpp"
+#include "gradmpm/mpm/LoadStep.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
 
@@ -83,6 +86,38 @@ ColumnErrors column_errors(const Model<dim>& m) {
   e.stress_l2 = std::sqrt(e.stress_l2 / volume) / (kRho * kG * kH0);
   e.position /= kH0;
   return e;
+}
+
+/// The assembled tangent of a load step at a random iterate du (entries uniform in
+/// [-amplitude, amplitude], seeded) against central differences of step h of its internal
+/// force: max |K - K_fd| / max |K|, and K's asymmetry max |K - K^T| / max |K|. Leaves the
+/// step's state at du.
+struct TangentCheck {
+  double error = 0.0, asymmetry = 0.0;
+};
+template <int dim>
+TangentCheck assembled_tangent_check(detail::LoadStep<dim>& step, double amplitude, unsigned seed, double h) {
+  const int n = step.dofs().num_dofs();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vector du(n), f;
+  for (int i = 0; i < n; ++i) du[i] = amplitude * u(rng);
+  step.internal_force(du, f);
+  SparseMatrix K;
+  step.stiffness(K);
+  const Eigen::MatrixXd Kd(K);
+  double err = 0.0;
+  for (int j = 0; j < n; ++j) {
+    Vector fp, fm, d = du;
+    d[j] += h;
+    step.internal_force(d, fp);
+    d[j] -= 2 * h;
+    step.internal_force(d, fm);
+    err = std::max(err, ((fp - fm) / (2 * h) - Kd.col(j)).cwiseAbs().maxCoeff());
+  }
+  step.internal_force(du, f);
+  const double scale = Kd.cwiseAbs().maxCoeff();
+  return {err / scale, (Kd - Kd.transpose()).cwiseAbs().maxCoeff() / scale};
 }
 
 }  // namespace gradmpm::test

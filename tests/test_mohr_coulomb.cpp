@@ -32,16 +32,8 @@ std::vector<double> state(double kappa) {
   s[6] = kappa;
   return s;
 }
-/// dF with principal logarithmic strains `eps` in a rotated frame (from eps_n = 0).
-Mat3 stretch(const Eigen::Vector3d& eps) {
-  const Mat3 Q = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY()))
-                     .toRotationMatrix();
-  return Q * eps.array().exp().matrix().asDiagonal() * Q.transpose();
-}
-Eigen::Vector3d sorted_principal(const Mat3& tau) {
-  Eigen::SelfAdjointEigenSolver<Mat3> e(tau);
-  return {e.eigenvalues()[2], e.eigenvalues()[1], e.eigenvalues()[0]};
-}
+using test::sorted_principal;
+using test::stretch;
 /// max |A - A_fd| / max |A| at this state.
 double tangent_error(const MohrCoulomb& m, const Mat3& dF, const std::vector<double>& st) {
   const Mat9 A = test::tangent_of(m, dF, st);

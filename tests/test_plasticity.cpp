@@ -317,17 +317,8 @@ TEST_P(NonAssociated, LawRunsThroughTheGeneralSolverWithQuadraticConvergence) {
 
 namespace {
 MohrCoulomb mc(double phi, double psi) { return MohrCoulomb(IsotropicElasticity(kE, kNu), 1.0, {5.0, phi, psi}); }
-/// dF with principal logarithmic strains `eps` in a rotated frame: from eps_n = 0 the
-/// trial strains are exactly eps.
-Mat3 stretch(const Eigen::Vector3d& eps) {
-  const Mat3 Q = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY()))
-                     .toRotationMatrix();
-  return Q * eps.array().exp().matrix().asDiagonal() * Q.transpose();
-}
-Eigen::Vector3d sorted_principal(const Mat3& tau) {
-  Eigen::SelfAdjointEigenSolver<Mat3> e(tau);
-  return {e.eigenvalues()[2], e.eigenvalues()[1], e.eigenvalues()[0]};
-}
+using test::sorted_principal;
+using test::stretch;
 }  // namespace
 
 TEST(MohrCoulomb, EveryRegionIsReachedAndItsReturnLiesThere) {
