@@ -1,6 +1,6 @@
 // gradmpm: implicit material point method with gradient elasticity.
 //
-//   gradmpm run CASE.toml [--out DIR] [--set section.key=value ...]
+//   gradmpm run CASE.toml [--out DIR] [--set section.key=value ...] [--restart CHECKPOINT]
 //   gradmpm keys [bar|bar-mpm|mpm]      the case-file keys as markdown tables
 //
 // Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input (case file,
@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
                   "(repeatable; the value is read as TOML, or as a plain string)")
       ->type_name("KEY=VALUE");
   run->add_flag("-q,--quiet", options.quiet, "print nothing on success");
+  run->add_option("--restart", options.restart,
+                  "continue from a checkpoint (DIR.checkpoints/step_NNNNNN, written with output.checkpoint_every) of "
+                  "the same case and --set options; the final outputs are the uninterrupted run's")
+      ->type_name("CHECKPOINT");
   int threads = 0;
   run->add_option("-j,--threads", threads,
                   "OpenMP threads of the point loops and the solvers (default: OMP_NUM_THREADS, else every core)")

@@ -173,7 +173,10 @@ const std::vector<SectionSpec>& mpm_sections() {
           {.name = "fix", .type = K::Other, .type_text = "[strings]",
            .doc = "components held, e.g. [\"x\", \"y\"] (fixed) or [\"x\"] (roller)"},
           {.name = "displacement", .type = K::Other, .type_text = dimvec, .default_text = "zero",
-           .doc = "total prescribed displacement of the held components at load factor 1"}}},
+           .doc = "total prescribed displacement of the held components at load factor 1"},
+          {.name = "gradient_boundary", .type = K::Boolean, .default_value = true,
+           .doc = "false: a support that only removes rigid motion (a pinned node), not a boundary of the body; the "
+                  "gradient step keeps its natural condition there (u-RA holds no value, e-RA/s-RA no odd component)"}}},
         {"rigid_boxes", SectionKind::Array, false, "rigid frictionless boxes pushing the points by penalty contact (a footing that follows the material)",
          {{.name = "name", .type = K::String, .default_text = "none",
            .doc = "its contact force and displacement go to reactions.csv every step"},
@@ -207,7 +210,12 @@ const std::vector<SectionSpec>& mpm_sections() {
            .allowed = "\"column\" (or no key)",
            .doc = "`column`: compare with the column closed form (one Hencky material, nu = 0, one box body, gravity "
                   "along the last axis)"},
-          {.name = "plot", .type = K::Boolean, .default_value = MpmOutputSettings{}.plot, .doc = "write the figures: column.png (check = \"column\"), load_displacement.png (named constraints)"}}},
+          {.name = "plot", .type = K::Boolean, .default_value = MpmOutputSettings{}.plot, .doc = "write the figures: column.png (check = \"column\"), load_displacement.png (named constraints)"},
+          {.name = "checkpoint_every", .type = K::Integer, .default_value = static_cast<long long>(MpmOutputSettings{}.checkpoint_every), .min = 0.0, .max = 1e9,
+           .allowed = "an integer from 0 (no checkpoints) to 1000000000",
+           .doc = "a checkpoint every n steps in DIR.checkpoints/step_NNNNNN (restart with --restart); 0: none"},
+          {.name = "checkpoint_keep", .type = K::Integer, .default_value = static_cast<long long>(MpmOutputSettings{}.checkpoint_keep), .min = 0.0, .max = 1e9,
+           .allowed = "an integer from 0 (keep all) to 1000000000", .doc = "how many of the latest checkpoints are kept; 0: all"}}},
         gradient_section(),
     };
   }();

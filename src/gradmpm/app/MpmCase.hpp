@@ -18,6 +18,16 @@ struct MpmOutputSettings {
   std::vector<long long> track;  ///< point ids written to tracked_points.csv each step
   std::string check;             ///< "" or "column": compare with the column closed form
   bool plot = true;              ///< with check = "column": column.png
+  int checkpoint_every = 0;      ///< a checkpoint every n steps (app/Checkpoint.hpp); 0: none
+  int checkpoint_keep = 2;       ///< how many checkpoints are kept (the latest); 0: all
+};
+
+/// How run_mpm_case runs a case besides what the case file says.
+struct MpmRunOptions {
+  bool quiet = false;
+  std::filesystem::path shown;        ///< the folder named in messages (default: the output folder)
+  std::filesystem::path checkpoints;  ///< where checkpoints go (default: <output folder>.checkpoints)
+  std::filesystem::path restart;      ///< a checkpoint to continue from (empty: start at load factor 0)
 };
 
 /// Everything a case file describes.
@@ -37,9 +47,12 @@ int mpm_case_dimension(const CaseFile& cf);
 template <int dim>
 MpmCase<dim> read_mpm_case(CaseFile& cf);
 
-/// Reads, runs and writes the outputs of an MPM case in `out_dir`; messages name `shown`
-/// (the folder the outputs are published to; default out_dir).
-void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet,
-                  const std::filesystem::path& shown = {});
+/// Reads, runs and writes the outputs of an MPM case in `out_dir`.
+void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, const MpmRunOptions& options);
+/// The same, messages naming `shown` (the folder the outputs are published to; default out_dir).
+inline void run_mpm_case(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet,
+                         const std::filesystem::path& shown = {}) {
+  run_mpm_case(cf, out_dir, MpmRunOptions{.quiet = quiet, .shown = shown});
+}
 
 }  // namespace gradmpm

@@ -252,14 +252,16 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
         if (s.name == name) named = &s;
       if (!named) named = &m.node_sets.emplace_back(NamedNodeSet{name, {}});
     }
-    if (static_cast<int>(comps.size()) < dim)
+    const bool boundary = read_boolean(cf, k, mpm_section("constraints").key("gradient_boundary"));
+    if (static_cast<int>(comps.size()) < dim && boundary)
       for (int d : comps)
         if (sel.hi[d] - sel.lo[d] <= tol) m.roller_planes.push_back({d, sel.lo[d]});
     int selected = 0;
     for (int node = 0; node < m.grid.num_nodes(); ++node) {
       if (!sel.contains(m.grid.node_position(node), tol)) continue;
       ++selected;
-      for (int comp : comps) m.constraints.push_back({node, comp, disp[comp], static_cast<int>(comps.size()) < dim});
+      for (int comp : comps)
+        m.constraints.push_back({node, comp, disp[comp], static_cast<int>(comps.size()) < dim, boundary});
       if (named && std::find(named->nodes.begin(), named->nodes.end(), node) == named->nodes.end())
         named->nodes.push_back(node);
     }
@@ -326,6 +328,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   }
   output.check = read_string(cf, out.name, out.key("check"));
   output.plot = read_boolean(cf, out.name, out.key("plot"));
+  output.checkpoint_every = static_cast<int>(read_integer(cf, out.name, out.key("checkpoint_every")));
+  output.checkpoint_keep = static_cast<int>(read_integer(cf, out.name, out.key("checkpoint_keep")));
   if (output.check == "column") {
     cf.require(
         m.materials.size() == 1 && m.materials[0]->model() == "hencky" && m.materials[0]->elasticity().poisson == 0.0,

@@ -5,11 +5,15 @@
 //   load_displacement.png                                  at the end, with named constraints
 //   points_final.csv, points_gradient.csv                  at the end
 //   column_check.csv, column.png                           with output.check = "column"
+// and, with output.checkpoint_every, checkpoints beside the output folder (app/Checkpoint.hpp).
 #include <fmt/format.h>
 #include <omp.h>
 
 #include <cstdlib>
+#include <optional>
+#include <sstream>
 
+#include "gradmpm/app/Checkpoint.hpp"
 #include "gradmpm/app/ColumnCheck.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/app/PointColumns.hpp"
@@ -44,6 +48,29 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
+/// A VTK series (points.pvd, grid.pvd) in a checkpoint.
+using Series = std::vector<std::pair<double, std::string>>;
+void put_series(Archive& a, const std::string& name, const Series& s) {
+  std::vector<double> load;
+  std::string files;
+  for (const auto& [l, f] : s) {
+    load.push_back(l);
+    files += f + "\n";
+  }
+  a.put(name + "_load", load);
+  a.put_text(name + "_files", files);
+}
+Series get_series(const Archive& a, const std::string& name) {
+  std::istringstream files(a.text(name + "_files"));
+  Series s;
+  std::string f;
+  for (double l : a.reals(name + "_load")) {
+    if (!std::getline(files, f)) throw InputError(fmt::format("{}: '{}' is damaged", a.source(), name));
+    s.emplace_back(l, f);
+  }
+  return s;
+}
+
 template <int dim>
 void print_step(const StepInfo& info) {
   std::string res;
@@ -58,7 +85,10 @@ void print_step(const StepInfo& info) {
 }
 
 template <int dim>
-void run(CaseFile& cf, const fs::path& dir, bool quiet, const fs::path& shown) {
+void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
+  const bool quiet = options.quiet;
+  const fs::path shown = options.shown.empty() ? dir : options.shown;
+  const std::string case_text = cf.canonical_text();
   MpmCase<dim> c = read_mpm_case<dim>(cf);
   Model<dim>& m = c.model;
   const MpmOutputSettings& output = c.output;
@@ -67,6 +97,11 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet, const fs::path& shown) {
   std::vector<PostStepStage<dim>*> stages;
   if (gradient_step.enabled()) stages.push_back(&gradient_step);
   double classical_seconds = 0.0;
+  std::optional<Restart> restart;
+  if (!options.restart.empty()) restart = read_checkpoint(options.restart, case_text, dim);
+  const CheckpointFolder checkpoints(
+      options.checkpoints.empty() ? fs::path(dir.string() + ".checkpoints") : options.checkpoints,
+      shown.string() + ".checkpoints", output.checkpoint_every, output.checkpoint_keep);
 
   std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
   std::string history = "step,load_factor,iteration,residual\n";
@@ -133,26 +168,63 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet, const fs::path& shown) {
         dim, m.points.size(), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps, omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"));
-  if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
-  track(0, 0.0);
+  // Everything the outputs accumulate from step to step, for a checkpoint.
+  auto save_outputs = [&](Archive& a) {
+    a.put_text("outputs/newton_history", history);
+    a.put_text("outputs/tracked_points", tracked);
+    a.put_text("outputs/reactions", reactions);
+    a.put_objects("outputs/block_displacement", block_u);
+    put_series(a, "outputs/points_pvd", pvd_points);
+    put_series(a, "outputs/grid_pvd", pvd_grid);
+  };
+  DriverState start;
+  if (restart) {
+    const Archive& a = restart->archive;
+    start = restore_run_state<dim>(a, m, stages);
+    history = a.text("outputs/newton_history");
+    tracked = a.text("outputs/tracked_points");
+    reactions = a.text("outputs/reactions");
+    a.get_objects("outputs/block_displacement", static_cast<long long>(block_u.size()), block_u);
+    pvd_points = get_series(a, "outputs/points_pvd");
+    pvd_grid = get_series(a, "outputs/grid_pvd");
+    link_files(restart->outputs, dir);
+    if (!quiet)
+      fmt::print("  restarting from {}: step {}, load factor {:.6g}\n", options.restart.string(), start.summary.steps,
+                 start.load_factor);
+  } else {
+    if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
+    track(0, 0.0);
+  }
 
   const auto t0 = Clock::now();
   try {
-    const RunSummary summary = run_quasi_static<dim>(m, c.newton, stages, [&](const Model<dim>&, const StepInfo& info) {
-      for (std::size_t k = 0; k < info.residuals.size(); ++k)
-        fmt::format_to(std::back_inserter(history), "{},{},{},{}\n", info.step, info.load_factor, k, info.residuals[k]);
-      track(info.step, info.load_factor);
-      react(info);
-      classical_seconds += info.seconds;
-      if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
-        write_vtk(info.step, info.load_factor, &info);
-      StagedOutputs out(dir);
-      out.write_text("newton_history.csv", history);
-      if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
-      if (reports) out.write_text("reactions.csv", reactions);
-      out.commit();
-      if (!quiet) print_step<dim>(info);
-    });
+    const RunSummary summary = run_quasi_static<dim>(
+        m, c.newton, stages,
+        [&](const Model<dim>&, const StepInfo& info) {
+          for (std::size_t k = 0; k < info.residuals.size(); ++k)
+            fmt::format_to(std::back_inserter(history), "{},{},{},{}\n", info.step, info.load_factor, k,
+                           info.residuals[k]);
+          track(info.step, info.load_factor);
+          react(info);
+          classical_seconds += info.seconds;
+          if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
+            write_vtk(info.step, info.load_factor, &info);
+          StagedOutputs out(dir);
+          out.write_text("newton_history.csv", history);
+          if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
+          if (reports) out.write_text("reactions.csv", reactions);
+          out.commit();
+          if (!quiet) print_step<dim>(info);
+          if (checkpoints.due(info)) {
+            Archive a;
+            put_checkpoint_header(a, case_text, dim, info.step);
+            save_run_state<dim>(a, m, info.after, stages);
+            save_outputs(a);
+            const std::string where = checkpoints.write(info.step, a, dir);
+            if (!quiet) fmt::print("  checkpoint {}\n", where);
+          }
+        },
+        start);
     const PointColumns<dim> table(m, gradient_step.fields());
     write_now(dir, "points_final.csv", table.csv(table.with_state(kFinalColumns)).str());
     if (gradient_step.fields()) write_now(dir, "points_gradient.csv", table.csv(kGradientColumns).str());
@@ -186,15 +258,14 @@ void run(CaseFile& cf, const fs::path& dir, bool quiet, const fs::path& shown) {
 
 }  // namespace
 
-void run_mpm_case(CaseFile& cf, const fs::path& out_dir, bool quiet, const fs::path& shown) {
-  const fs::path& name = shown.empty() ? out_dir : shown;
+void run_mpm_case(CaseFile& cf, const fs::path& out_dir, const MpmRunOptions& options) {
   switch (mpm_case_dimension(cf)) {
     case 1:
-      return run<1>(cf, out_dir, quiet, name);
+      return run<1>(cf, out_dir, options);
     case 2:
-      return run<2>(cf, out_dir, quiet, name);
+      return run<2>(cf, out_dir, options);
     default:
-      return run<3>(cf, out_dir, quiet, name);
+      return run<3>(cf, out_dir, options);
   }
 }
 

@@ -54,6 +54,9 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
   if (!bar && !mpm)
     throw InputError(fmt::format(
         "{}: no problem section found; expected [bar] (1D bar) or [grid] (MPM) (see examples/)", cf.name()));
+  if (bar && !options.restart.empty())
+    throw InputError(fmt::format("--restart {}: {} is a 1D bar case, which has no checkpoints (MPM cases only)",
+                                 options.restart.string(), cf.name()));
   // The run writes into a staging folder and publishes it whole (io/RunFolder.hpp): a
   // numerical failure publishes its converged steps; anything else leaves out_dir as it was.
   RunFolder folder(out_dir);
@@ -61,7 +64,11 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
     if (bar)
       run_bar(cf, folder.staging(), options.quiet);
     else
-      run_mpm_case(cf, folder.staging(), options.quiet, out_dir);
+      run_mpm_case(cf, folder.staging(),
+                   MpmRunOptions{.quiet = options.quiet,
+                                 .shown = out_dir,
+                                 .checkpoints = folder.dir().string() + ".checkpoints",
+                                 .restart = options.restart});
   } catch (const SolverError&) {
     folder.publish();
     throw;

@@ -12,6 +12,7 @@ struct RunOptions {
   std::filesystem::path out;           ///< empty: out/<case file stem>
   std::vector<std::string> overrides;  ///< "section.key=value"
   bool quiet = false;
+  std::filesystem::path restart;  ///< an MPM checkpoint to continue from (app/Checkpoint.hpp)
 };
 
 void run_case(const std::filesystem::path& case_file, const RunOptions& options);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <optional>
 
+#include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/core/Timer.hpp"
@@ -69,7 +71,7 @@ class SmoothingContext {
     std::vector<int> out;
     const double tol = 1e-9 * model_.grid.cell_size().minCoeff();
     for (const auto& k : model_.constraints) {
-      if (!dofs_.active(k.node)) continue;
+      if (!dofs_.active(k.node) || !k.gradient_boundary) continue;
       bool odd = k.roller && (k.component == i || k.component == j);
       for (const auto& [axis, at] : model_.roller_planes)
         odd = odd || ((axis == i || axis == j) && std::abs(model_.grid.node_position(k.node)[axis] - at) <= tol);
@@ -81,26 +83,44 @@ class SmoothingContext {
   }
 
   /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
-  /// classical problem holds that component. The held values are the classical field's
+  /// classical problem holds that component (supports marked gradient_boundary = false,
+  /// which only remove rigid motion, excepted). The held values are the classical field's
   /// own nodal values: with the grid reset after every step these are not stored, so
   /// they are the L2 projection of the point field, M u = sum_p N c_p V_p (exact for
   /// linear fields; the prescribed value itself in the FEM limit). Returns nodal values.
   Vector smooth_displacement(const std::vector<double>& c, int comp) {
     std::vector<int> dofs;
     for (const auto& k : model_.constraints)
-      if (k.component == comp && dofs_.active(k.node)) dofs.push_back(dofs_.dof(k.node, 0));
+      if (k.component == comp && k.gradient_boundary && dofs_.active(k.node)) dofs.push_back(dofs_.dof(k.node, 0));
     std::sort(dofs.begin(), dofs.end());
     dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
     std::vector<double> values;
     if (!dofs.empty()) {
-      if (!projector_)
-        projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_);
-      const Vector projected = projector_->smooth_point_field(c);
+      const Vector projected = project(c);
       for (int d : dofs) values.push_back(projected[d]);
     }
     auto& sm = by_constraints_[dofs];
     if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs, backend_);
     return sm->smooth_point_field(c, values);
+  }
+
+  /// The L2 projection of a point field onto the nodes, M u = sum_p N c_p V_p. The
+  /// consistent mass matrix is singular when the points do not determine every nodal
+  /// value (GIMP nodes whose support only touches the material, e.g. beyond a symmetry
+  /// plane, or fewer points than nodes in a cell row): then the lumped projection,
+  /// u_i = sum_p N_i c_p V_p / sum_p N_i V_p (the MPM's own mapping; 0 where no point weighs).
+  Vector project(const std::vector<double>& c) {
+    if (!projector_ && !lumped_) {
+      try {
+        projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_);
+      } catch (const SolverError&) {
+        lumped_ = assembler_.load(std::vector<double>(c.size(), 1.0));
+      }
+    }
+    if (projector_) return projector_->smooth_point_field(c);
+    Vector u = assembler_.load(c);
+    for (Eigen::Index i = 0; i < u.size(); ++i) u[i] = (*lumped_)[i] > 0.0 ? u[i] / (*lumped_)[i] : 0.0;
+    return u;
   }
 
   /// Seconds the sparse solvers of this context have taken.
@@ -133,6 +153,7 @@ class SmoothingContext {
   SparseMatrix pattern_;
   Assembler<dim> assembler_;
   std::unique_ptr<HelmholtzSmoother<dim>> natural_, projector_;
+  std::optional<Vector> lumped_;  ///< nodal masses (per unit density) when the consistent projection is singular
   std::map<std::vector<int>, std::unique_ptr<HelmholtzSmoother<dim>>> by_constraints_;
 };
 
@@ -270,6 +291,37 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
   prev_strain_ = std::move(eps);
   prev_stress_ = m.points.stress;
   seconds_ += seconds_since(t0);
+}
+
+template <int dim>
+void GradientTracker<dim>::save(Archive& a, const std::string& prefix) const {
+  a.put_objects(prefix + "displacement", fields_.displacement);
+  a.put_objects(prefix + "strain", fields_.strain);
+  a.put_objects(prefix + "stress", fields_.stress);
+  a.put_objects(prefix + "previous_position", prev_position_);
+  a.put_objects(prefix + "previous_strain", prev_strain_);
+  a.put_objects(prefix + "previous_stress", prev_stress_);
+}
+
+template <int dim>
+void GradientTracker<dim>::restore(const Archive& a, const std::string& prefix) {
+  const long long n = static_cast<long long>(prev_position_.size());
+  a.get_objects(prefix + "displacement", n, fields_.displacement);
+  a.get_objects(prefix + "strain", n, fields_.strain);
+  a.get_objects(prefix + "stress", n, fields_.stress);
+  a.get_objects(prefix + "previous_position", n, prev_position_);
+  a.get_objects(prefix + "previous_strain", n, prev_strain_);
+  a.get_objects(prefix + "previous_stress", n, prev_stress_);
+}
+
+template <int dim>
+void GradientStep<dim>::save(Archive& a) const {
+  if (tracker_) tracker_->save(a, name() + "/");
+}
+
+template <int dim>
+void GradientStep<dim>::restore(const Archive& a) {
+  if (tracker_) tracker_->restore(a, name() + "/");
 }
 
 template <int dim>

@@ -76,6 +76,9 @@ class GradientTracker {
   void after_step(const Model<dim>& model);
   const EnrichedFields<dim>& fields() const { return fields_; }
   double seconds() const { return seconds_; }
+  /// Its state (the accumulated fields and the classical fields of the last step) under `prefix`.
+  void save(Archive& a, const std::string& prefix) const;
+  void restore(const Archive& a, const std::string& prefix);
 
  private:
   GradientSettings settings_;
@@ -97,6 +100,9 @@ class GradientStep final : public PostStepStage<dim> {
   bool enabled() const { return settings_.variant != GradientVariant::None; }
   std::string name() const override { return "gradient"; }
   void after_step(Model<dim>& model, const StepInfo& info) override;
+  /// fields = points carries its accumulated fields; fields = grid carries nothing.
+  void save(Archive& a) const override;
+  void restore(const Archive& a) override;
   /// The latest enriched fields, or null when none have been computed yet.
   const EnrichedFields<dim>* fields() const;
   double seconds() const { return seconds_ + (tracker_ ? tracker_->seconds() : 0.0); }

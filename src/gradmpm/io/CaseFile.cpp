@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -371,6 +372,30 @@ std::vector<std::string> CaseFile::string_list(const std::string& key) const {
     out.push_back(*e.value<std::string>());
   }
   return out;
+}
+
+namespace {
+/// "section.key = value" for every value under `n` (arrays of tables by index).
+void flatten(const toml::node& n, const std::string& path, std::vector<std::string>& lines) {
+  if (const toml::table* t = n.as_table()) {
+    for (auto&& [k, v] : *t) flatten(v, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str()), lines);
+  } else if (const toml::array* a = n.as_array(); a && !a->empty() && a->is_array_of_tables()) {
+    for (std::size_t i = 0; i < a->size(); ++i) flatten(*a->get(i), fmt::format("{}[{}]", path, i), lines);
+  } else {
+    std::ostringstream value;
+    n.visit([&](const auto& x) { value << x; });
+    lines.push_back(path + " = " + value.str());
+  }
+}
+}  // namespace
+
+std::string CaseFile::canonical_text() const {
+  std::vector<std::string> lines;
+  flatten(table_, "", lines);
+  std::sort(lines.begin(), lines.end());
+  std::string text;
+  for (const auto& l : lines) text += l + "\n";
+  return text;
 }
 
 }  // namespace gradmpm

@@ -29,6 +29,9 @@ class CaseFile {
   static CaseFile parse(std::string_view text, std::string name, const std::vector<std::string>& overrides = {});
 
   const std::string& name() const { return name_; }
+  /// The case as read, overrides applied: one sorted line "section.key = value" per value
+  /// (comments and layout dropped). What a checkpoint records and a restart compares.
+  std::string canonical_text() const;
   bool has_section(std::string_view section) const;
 
   /// Declares the keys a section may hold; `required` sections must be present.

@@ -22,6 +22,10 @@ struct NodalConstraint {
   int component;
   double total = 0.0;
   bool roller = false;  ///< from a block that holds some but not all components (symmetry, frictionless)
+  /// false: a support that only removes rigid motion (a pinned node), not a boundary of
+  /// the body: the gradient step keeps its natural condition there (u-RA holds no value,
+  /// e-RA and s-RA hold no odd component), so the smoothed field has no spike at it.
+  bool gradient_boundary = true;
 };
 
 /// Grid nodes whose reaction force and displacement are reported (a named [[constraints]] block).
@@ -129,6 +133,20 @@ struct PhaseTimes {
   }
 };
 
+struct RunSummary {
+  int steps = 0;
+  int total_iterations = 0;
+  int cuts = 0;
+};
+
+/// Where the driver stands between two load steps: with the model (and the post-step
+/// stages' state), everything a restarted run needs to continue bit for bit.
+struct DriverState {
+  double load_factor = 0.0;     ///< lambda reached
+  double next_increment = 0.0;  ///< d lambda the next step tries first (0: the nominal one)
+  RunSummary summary;           ///< of the steps so far
+};
+
 /// What one converged load step did; passed to the observer after every step.
 struct StepInfo {
   int step = 0;                   ///< 1, 2, ... (converged steps)
@@ -139,6 +157,7 @@ struct StepInfo {
   int indefinite_solves =
       0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
   bool last = false;  ///< the step that reaches load factor 1
+  DriverState after;  ///< the driver's state after this step (what a checkpoint of it records)
   /// Grid fields of the step, computed only when called (outputs ask for them on the
   /// steps they write); valid during the post-step stages and the observer call only.
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)

@@ -102,11 +102,12 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
 
 template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
-                            const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer) {
-  RunSummary summary;
+                            const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer,
+                            const DriverState& start) {
+  RunSummary summary = start.summary;
   if (!model.state_initialised()) model.initialise_state();
   const double nominal = 1.0 / settings.load_steps;
-  double lambda = 0.0, dlambda = nominal;
+  double lambda = start.load_factor, dlambda = start.next_increment > 0.0 ? start.next_increment : nominal;
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
@@ -154,20 +155,21 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.grid_mass = [&] { return step->grid_mass(); };
     info.rigid_forces = [&] { return step->rigid_forces(); };
     summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
+    if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
+    info.after = DriverState{lambda, dlambda, summary};
     const auto t_stages = Clock::now();
     for (PostStepStage<dim>* stage : stages) stage->after_step(model, info);
     info.stage_seconds = seconds_since(t_stages);
     if (observer) observer(model, info);
-    if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
   }
   return summary;
 }
 
 template RunSummary run_quasi_static<1>(Model<1>&, const NewtonSettings&, const std::vector<PostStepStage<1>*>&,
-                                        const StepObserver<1>&);
+                                        const StepObserver<1>&, const DriverState&);
 template RunSummary run_quasi_static<2>(Model<2>&, const NewtonSettings&, const std::vector<PostStepStage<2>*>&,
-                                        const StepObserver<2>&);
+                                        const StepObserver<2>&, const DriverState&);
 template RunSummary run_quasi_static<3>(Model<3>&, const NewtonSettings&, const std::vector<PostStepStage<3>*>&,
-                                        const StepObserver<3>&);
+                                        const StepObserver<3>&, const DriverState&);
 
 }  // namespace gradmpm

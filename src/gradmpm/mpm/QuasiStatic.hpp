@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "gradmpm/io/Archive.hpp"
 #include "gradmpm/mpm/Model.hpp"
 
 namespace gradmpm {
@@ -36,18 +37,18 @@ class PostStepStage {
   virtual std::string name() const = 0;
   /// After the points hold the converged state of step `info.step`.
   virtual void after_step(Model<dim>& model, const StepInfo& info) = 0;
+  /// A stage that carries state from step to step puts it in a checkpoint
+  /// (app/Checkpoint.hpp) and takes it back on restart, under names starting "name()/".
+  virtual void save(Archive&) const {}
+  virtual void restore(const Archive&) {}
 };
 
-struct RunSummary {
-  int steps = 0;
-  int total_iterations = 0;
-  int cuts = 0;
-};
-
-/// Runs the analysis from load factor 0 to 1 in settings.load_steps nominal steps.
+/// Runs the analysis from load factor 0 (or from `start`, a restart) to 1 in
+/// settings.load_steps nominal steps.
 template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
-                            const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer = {});
+                            const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer = {},
+                            const DriverState& start = {});
 
 /// The same without post-step stages.
 template <int dim>

@@ -1,0 +1,193 @@
+// Requirements on checkpoint and restart (app/Checkpoint.hpp; issue 12, point 2):
+//  R1 an archive read back from its HDF5 file is the archive written, bit for bit (NaN,
+//     -0, subnormals, 1e308, integer extremes, texts with newlines and NUL bytes, empty
+//     arrays);
+//  R2 a damaged checkpoint (one flipped byte in an array, a truncated file) is refused
+//     with exit 2, never read as other numbers;
+//  R3 a run killed with SIGKILL after a checkpoint and restarted from it publishes the
+//     uninterrupted run's outputs byte for byte: an elasto-plastic collapse with load
+//     cuts (so the checkpoint's next increment is not the nominal one), indefinite
+//     tangents, the ghost penalty and points moving through the grid;
+//  R4 the same with a gradient step that carries its fields at the points from step to
+//     step (fields = points, u-RA and e-RA): points_gradient.csv is the uninterrupted one
+//     (u-RA on this GIMP footing failed before: its consistent L2 projection is singular);
+//  R5 a checkpoint of another case (naming the key that differs), another dimension,
+//     another program version, a file that is not a gradmpm checkpoint, a missing one,
+//     and --restart on a bar case are refused with exit 2 and a message saying which;
+//  R6 only the last checkpoint_keep checkpoints stay, and a temporary left by a run
+//     killed while writing one is removed by the next run.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <thread>
+
+#include "CliTestUtil.hpp"
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/io/Hdf5Archive.hpp"
+
+using namespace gradmpm;
+using namespace gradmpm::test;
+
+namespace {
+
+std::string example(const std::string& name) { return std::string(GRADMPM_SOURCE_DIR) + "/examples/" + name; }
+
+std::map<std::string, std::string> files_of(const fs::path& d) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::directory_iterator(d))
+    if (e.path().extension() != ".png" && !e.path().filename().string().starts_with("."))  // not the manifest (pid)
+      m[e.path().filename().string()] = slurp(e.path());
+  return m;
+}
+
+/// The first file that differs between two output folders ("" when every file is equal).
+std::string first_difference(const fs::path& a, const fs::path& b) {
+  const auto fa = files_of(a), fb = files_of(b);
+  for (const auto& [name, content] : fa) {
+    const auto it = fb.find(name);
+    if (it == fb.end()) return name + " is missing";
+    if (it->second != content) return name + " differs";
+  }
+  if (fa.size() != fb.size()) return "a file too many";
+  return "";
+}
+
+using CheckpointCli = ScratchDirTest;
+using Hdf5ArchiveTest = ScratchDirTest;
+
+}  // namespace
+
+TEST_F(Hdf5ArchiveTest, ReadsBackWhatWasWrittenBitForBit) {
+  Archive a;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> reals = {0.1, -0.0, 1e308, std::numeric_limits<double>::denorm_min(), nan, -7.25};
+  const std::vector<long long> ints = {std::numeric_limits<long long>::min(), -1, 0,
+                                       std::numeric_limits<long long>::max()};
+  const std::string text = std::string("line 1\nline 2\n") + '\0' + "after a NUL";
+  a.put("group/reals", reals);
+  a.put("group/sub/integers", ints);
+  a.put_text("text", text);
+  a.put("empty", std::vector<double>{});
+  a.put_text("empty_text", "");
+  write_hdf5_archive(dir / "a.h5", a);
+  const Archive b = read_hdf5_archive(dir / "a.h5");
+  const auto& r = b.reals("group/reals", 6);
+  for (std::size_t i = 0; i < reals.size(); ++i)
+    EXPECT_EQ(std::memcmp(&r[i], &reals[i], sizeof(double)), 0) << "value " << i;
+  EXPECT_EQ(b.integers("group/sub/integers"), ints);
+  EXPECT_EQ(b.text("text"), text);
+  EXPECT_TRUE(b.reals("empty").empty());
+  EXPECT_EQ(b.text("empty_text"), "");
+  try {
+    (void)b.reals("group/reals", 7);
+    ADD_FAILURE() << "a short array was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'group/reals' holds 6 values, expected 7"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)b.reals("nothing"), InputError);
+}
+
+TEST_F(Hdf5ArchiveTest, ADamagedOrTruncatedFileIsRefused) {
+  Archive a;
+  a.put("data", std::vector<double>(4096, 1234.5678));
+  write_hdf5_archive(dir / "a.h5", a);
+  std::string bytes = slurp(dir / "a.h5");
+  const double v = 1234.5678;
+  const std::string pattern(reinterpret_cast<const char*>(&v), sizeof v);
+  const auto at = bytes.find(pattern + pattern);
+  ASSERT_NE(at, std::string::npos) << "the array is not stored as it is";
+  bytes[at + 1000 * sizeof v + 3] ^= 0x10;  // one bit inside the array
+  std::ofstream(dir / "flipped.h5", std::ios::binary) << bytes;
+  try {
+    (void)read_hdf5_archive(dir / "flipped.h5");
+    ADD_FAILURE() << "a flipped bit was read as data";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum mismatch"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir / "short.h5", std::ios::binary) << slurp(dir / "a.h5").substr(0, 20000);
+  EXPECT_THROW((void)read_hdf5_archive(dir / "short.h5"), InputError);
+}
+
+TEST_F(CheckpointCli, AKilledRunRestartedFromItsCheckpointEndsAsTheUninterruptedRun) {
+  // The vertical cut of AMPLE in 20 nominal steps: steps 13, 15, 17, ... need a cut.
+  const std::string args = "run " + example("vertical_cut_2d.toml") +
+                           " --set load_steps.count=20 --set output.checkpoint_every=3 --set output.checkpoint_keep=0";
+  const fs::path whole = dir / "whole", killed = dir / "killed";
+  const CliResult r = run_gradmpm(args + " --out " + whole.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_NE(r.out.find("step   15  load 0.6750  iterations  9  cuts 1"), std::string::npos) << "the case changed";
+  // The same run, killed by SIGKILL once it has written the checkpoint of step 15.
+  const std::string cmd = std::string(GRADMPM_EXE) + " " + args + " --out " + killed.string() +
+                          " >/dev/null 2>&1 & echo $! > " + (dir / "pid").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const fs::path checkpoint = dir / "killed.checkpoints" / "step_000015";
+  for (int i = 0; i < 3000 && !fs::exists(checkpoint); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ::kill(std::stoi(slurp(dir / "pid")), SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_TRUE(fs::exists(checkpoint / "checkpoint.h5"));
+  ASSERT_FALSE(fs::exists(killed)) << "the killed run published its folder";
+  const CliResult again = run_gradmpm(args + " --out " + killed.string() + " --restart " + checkpoint.string());
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.out.find("restarting from"), std::string::npos);
+  EXPECT_EQ(again.out.find("step   15 "), std::string::npos) << "step 15 was solved again";
+  EXPECT_EQ(first_difference(whole, killed), "");
+  EXPECT_EQ(files_of(whole).size(), 20u) << "every output but load_displacement.png (a plot of reactions.csv)";
+}
+
+TEST_F(CheckpointCli, TheGradientFieldsCarriedAtThePointsContinueBitForBit) {
+  for (const char* variant : {"u-RA", "e-RA"}) {
+    const std::string args = "run " + example("footing_2d.toml") + " -q --set gradient.variant=" + variant +
+                             " --set gradient.length_scale=0.3 --set output.checkpoint_every=7";
+    ASSERT_EQ(run_gradmpm(args + " --out " + (dir / "whole").string()).code, 0);
+    const std::string from = (dir / "whole.checkpoints" / "step_000028").string();
+    const CliResult r = run_gradmpm(args + " --out " + (dir / "restarted").string() + " --restart " + from);
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(dir / "whole" / "points_gradient.csv"));
+    EXPECT_EQ(first_difference(dir / "whole", dir / "restarted"), "") << variant;
+  }
+}
+
+TEST_F(CheckpointCli, ACheckpointOfAnotherCaseVersionOrKindIsRefused) {
+  const std::string footing = "run " + example("footing_2d.toml") + " -q --set output.checkpoint_every=10";
+  ASSERT_EQ(run_gradmpm(footing + " --out " + (dir / "a").string()).code, 0);
+  const fs::path ck = dir / "a.checkpoints" / "step_000030";
+  auto refused = [&](const std::string& args, const std::string& fragment) {
+    const CliResult r = run_gradmpm(args + " --out " + (dir / "b").string());
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+  };
+  refused(footing + " --set nonlinear_solver.tolerance=1e-8 --restart " + ck.string(),
+          "written for another case (nonlinear_solver.tolerance: checkpoint 1.0000000000000001e-09, this run 1e-08)");
+  refused("run " + example("column_1d.toml") + " --restart " + ck.string(), "a 2D checkpoint; this case is 1D");
+  refused("run " + example("bar_bimaterial.toml") + " --restart " + ck.string(), "is a 1D bar case");
+  refused(footing + " --restart " + (dir / "none").string(), "no such checkpoint");
+  // Another version: the same checkpoint as an older program would have written it.
+  Archive a = read_hdf5_archive(ck / "checkpoint.h5");
+  a.put_text("program", "gradmpm 0.0.9");
+  write_hdf5_archive(dir / "old.h5", a);
+  fs::create_directories(dir / "outputs");
+  refused(footing + " --restart " + (dir / "old.h5").string(), "written by gradmpm 0.0.9");
+  Archive other;
+  other.put_real("x", 1.0);
+  write_hdf5_archive(dir / "other.h5", other);
+  refused(footing + " --restart " + (dir / "other.h5").string(), "not a gradmpm checkpoint");
+  std::ofstream(dir / "text.h5") << "not HDF5";
+  refused(footing + " --restart " + (dir / "text.h5").string(), "not a readable HDF5 checkpoint");
+}
+
+TEST_F(CheckpointCli, OnlyTheLatestCheckpointsStayAndStaleTemporariesGo) {
+  fs::create_directories(dir / "a.checkpoints" / ".step_000003.tmp-99999");
+  const CliResult r =
+      run_gradmpm("run " + example("footing_2d.toml") +
+                  " --set output.checkpoint_every=4 --set output.checkpoint_keep=3 --out " + (dir / "a").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir / "a.checkpoints")) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"step_000028", "step_000032", "step_000036"}));
+  EXPECT_NE(r.out.find("checkpoint " + (dir / "a").string() + ".checkpoints/step_000036"), std::string::npos) << r.out;
+}
