@@ -95,7 +95,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   cf.require(nodes * dim < 2147483647.0, "grid.cells",
              fmt::format("a grid of at most {:.4g} nodes ({} dofs per node, numbered in 32 bits); this one has {:.4g}",
                          std::floor(2147483647.0 / dim), dim, nodes));
-  const bool grid_output = cf.number_or("output.vtk_every", 1.0) > 0.0;
+  const bool grid_output = read_integer(cf, "output", mpm_section("output").key("vtk_every")) > 0;
   require_memory(cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output),
                  fmt::format("{:.3g} grid nodes{}", nodes, grid_output ? " written to grid VTU files" : ""));
   Model<dim> m(Grid<dim>(origin, h, n));
@@ -269,8 +269,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   }
 
   // --- rigid boxes (mpm/RigidContact.hpp)
-  double young_max = 0.0;
-  for (const auto& mat : m.materials) young_max = std::max(young_max, mat->elasticity().young);
+  const double young_max = stiffest_young(m.materials);
   const SectionSpec& rigid = mpm_section("rigid_boxes");
   for (std::size_t c = 0; c < cf.array_size("rigid_boxes"); ++c) {
     const std::string k = fmt::format("rigid_boxes[{}]", c);

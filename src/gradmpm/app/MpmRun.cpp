@@ -220,8 +220,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
             put_checkpoint_header(a, case_text, dim, info.step);
             save_run_state<dim>(a, m, info.after, stages);
             save_outputs(a);
+            const auto t_write = Clock::now();
             const std::string where = checkpoints.write(info.step, a, dir);
-            if (!quiet) fmt::print("  checkpoint {}\n", where);
+            if (!quiet) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
           }
         },
         start);

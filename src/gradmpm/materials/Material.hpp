@@ -21,7 +21,9 @@
 // make), plus one registration line in MaterialRegistry.cpp; tests/test_materials.cpp
 // registers a toy law defined only in the test the same way.
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -96,5 +98,13 @@ class Material {
   IsotropicElasticity elasticity_;
   double density_;
 };
+
+/// The largest Young's modulus of `materials` (0 for none): the scale of the penalty
+/// terms (ghost faces, rigid-box contact) and of the internal force's round-off.
+inline double stiffest_young(const std::vector<std::shared_ptr<const Material>>& materials) {
+  double young = 0.0;
+  for (const auto& m : materials) young = std::max(young, m->elasticity().young);
+  return young;
+}
 
 }  // namespace gradmpm

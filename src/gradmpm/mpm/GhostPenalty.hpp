@@ -51,8 +51,7 @@ class GhostFaces {
     // Points per cell and the stiffest material in each cell.
     std::vector<int> points_in(nc, 0);
     std::vector<double> young(nc, 0.0);
-    double young_max = 0.0;
-    for (const auto& m : materials) young_max = std::max(young_max, m->elasticity().young);
+    const double young_max = stiffest_young(materials);
     for (int p = 0; p < pts.size(); ++p)
       if (const auto c = grid.cell_of(pts.position[p])) {
         const int k = cell_number(n, *c);

@@ -15,6 +15,7 @@
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/mpm/FBar.hpp"
 #include "gradmpm/mpm/GhostPenalty.hpp"
+#include "gradmpm/mpm/IncrementGradient.hpp"
 #include "gradmpm/mpm/Model.hpp"
 #include "gradmpm/mpm/RigidContact.hpp"
 #include "gradmpm/points/Transfer.hpp"
@@ -26,21 +27,6 @@ namespace gradmpm::detail {
 struct StepFailure {
   std::string reason;
 };
-
-/// grad_n du = sum_a du_a (x) dN_a at one point (embedded in 3x3), and optionally the
-/// point's displacement sum_a N_a du_a (eq. 2).
-template <int dim>
-Mat3 increment_gradient(const Stencil<dim>& s, const DofMap& dofs, const Vector& du, Vec<dim>* dx = nullptr) {
-  Mat3 g = Mat3::Zero();
-  if (dx) dx->setZero();
-  for (int a = 0; a < s.count; ++a)
-    for (int i = 0; i < dim; ++i) {
-      const double u = du[dofs.dof(s.node[a], i)];
-      if (dx) (*dx)[i] += s.N[a] * u;
-      for (int j = 0; j < dim; ++j) g(i, j) += u * s.dN[a][j];
-    }
-  return g;
-}
 
 /// The grid-side work of one load step: stencils at x_n, active dofs, the sparsity
 /// pattern, the prescribed increments, and the point loop of every Newton iteration.
@@ -89,8 +75,7 @@ class LoadStep {
   /// nodal forces from a stress error of eps_mach E (what the strain of a step cannot
   /// resolve). Newton stops below it whatever the relative residual says (tiny strains).
   double roundoff_force() const {
-    double young = 0.0;
-    for (const auto& m : model_.materials) young = std::max(young, m->elasticity().young);
+    const double young = stiffest_young(model_.materials);
     const double area = model_.grid.cell_size().prod() / model_.grid.cell_size().maxCoeff();
     return 100.0 * std::numeric_limits<double>::epsilon() * young * area * std::sqrt(double(dofs_.num_dofs()));
   }
