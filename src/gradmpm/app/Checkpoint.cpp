@@ -1,8 +1,6 @@
 #include "gradmpm/app/Checkpoint.hpp"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <stdio.h>  // renameat2
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +10,7 @@
 #include <sstream>
 
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/io/AtomicFiles.hpp"
 #include "gradmpm/io/Hdf5Archive.hpp"
 
 namespace gradmpm {
@@ -24,13 +23,6 @@ constexpr const char* kFormat = "gradmpm checkpoint";
 constexpr long long kFormatVersion = 1;
 constexpr const char* kFile = "checkpoint.h5";
 const std::string kProgram = std::string("gradmpm ") + GRADMPM_VERSION;
-
-void fsync_path(const fs::path& p, const std::string& shown) {
-  const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC);
-  const bool ok = fd >= 0 && ::fsync(fd) == 0;
-  if (fd >= 0) ::close(fd);
-  if (!ok) throw OutputError(fmt::format("{}: cannot flush to disk", shown));
-}
 
 /// Step numbers of the complete checkpoint folders in `folder`.
 std::vector<std::pair<int, fs::path>> checkpoints_in(const fs::path& folder) {
@@ -70,7 +62,29 @@ std::string first_difference(const std::string& a, const std::string& b) {
   return "?";
 }
 
+/// One per-point array in an archive: doubles as they are, integers as 64-bit, fixed-size
+/// Eigen objects flattened (Archive::put_objects).
+void put_array(Archive& a, const std::string& name, const std::vector<double>& v) { a.put(name, v); }
+void put_array(Archive& a, const std::string& name, const std::vector<int>& v) {
+  a.put(name, std::vector<long long>(v.begin(), v.end()));
+}
+template <typename T>
+void put_array(Archive& a, const std::string& name, const std::vector<T>& v) {
+  a.put_objects(name, v);
+}
+void get_array(const Archive& a, const std::string& name, long long n, std::vector<double>& v) { v = a.reals(name, n); }
+void get_array(const Archive& a, const std::string& name, long long n, std::vector<int>& v) {
+  const auto& x = a.integers(name, n);
+  v.assign(x.begin(), x.end());
+}
+template <typename T>
+void get_array(const Archive& a, const std::string& name, long long n, std::vector<T>& v) {
+  a.get_objects(name, n, v);
+}
+
 }  // namespace
+
+fs::path checkpoint_folder_of(const fs::path& out_dir) { return fs::path(out_dir.string() + ".checkpoints"); }
 
 void link_files(const fs::path& from, const fs::path& to) {
   for (const auto& e : fs::directory_iterator(from)) {
@@ -78,8 +92,7 @@ void link_files(const fs::path& from, const fs::path& to) {
     const fs::path target = to / e.path().filename();
     std::error_code ec;
     fs::remove(target, ec);
-    fs::create_hard_link(e.path(), target, ec);
-    if (ec) fs::copy_file(e.path(), target, fs::copy_options::overwrite_existing, ec);
+    ec = link_or_copy(e.path(), target);
     if (ec)
       throw OutputError(fmt::format("{}: cannot link or copy {} ({})", to.string(), e.path().string(), ec.message()));
   }
@@ -107,18 +120,12 @@ std::string CheckpointFolder::write(int step, const Archive& a, const fs::path& 
   if (ec) throw OutputError(fmt::format("{}: cannot create ({})", shown, ec.message()));
   write_hdf5_archive(tmp / kFile, a);
   link_files(outputs, tmp / "outputs");
+  fsync_path(tmp / kFile, shown);
   fsync_path(tmp / "outputs", shown);
   fsync_path(tmp, shown);
   // Into place in one rename; an older checkpoint of the same step (an earlier run that
-  // went further) is swapped out first, so a complete one is there at every moment.
-  if (fs::exists(final_path)) {
-    if (::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, final_path.c_str(), RENAME_EXCHANGE) != 0)
-      throw OutputError(fmt::format("{}: cannot replace the earlier checkpoint", shown));
-    fs::remove_all(tmp, ec);
-  } else {
-    fs::rename(tmp, final_path, ec);
-    if (ec) throw OutputError(fmt::format("{}: cannot publish ({})", shown, ec.message()));
-  }
+  // went further) is swapped out, so a complete one is there at every moment.
+  move_into_place(tmp, final_path, folder_ / fmt::format(".{}.old-{}", name, ::getpid()), shown + ": cannot publish");
   fsync_path(folder_, shown_);
   // Keep the last keep_ up to this step; later ones are an earlier run's, which this run rewrites.
   auto all = checkpoints_in(folder_);
@@ -177,20 +184,9 @@ void save_run_state(Archive& a, const Model<dim>& m, const DriverState& driver,
         std::vector<long long>{driver.summary.steps, driver.summary.total_iterations, driver.summary.cuts});
   const MaterialPoints<dim>& p = m.points;
   a.put_integer("points/count", p.size());
-  a.put_objects("points/position", p.position);
-  a.put_objects("points/original_position", p.original_position);
-  a.put("points/volume", p.volume);
-  a.put("points/original_volume", p.original_volume);
-  a.put("points/mass", p.mass);
-  a.put("points/material", std::vector<long long>(p.material.begin(), p.material.end()));
-  a.put_objects("points/F", p.F);
-  a.put_objects("points/stress", p.stress);
-  a.put("points/fbar_jacobian", p.fbar_jacobian);
+  p.for_each_array([&](const char* name, const auto& v) { put_array(a, std::string("points/") + name, v); });
   a.put_integer("points/state_stride", p.state_stride);
   a.put("points/state", p.state);
-  a.put_objects("points/half_length", p.half_length);
-  a.put_objects("points/original_half_length", p.original_half_length);
-  a.put_objects("points/force", p.force);
   for (const PostStepStage<dim>* s : stages) s->save(a);
 }
 
@@ -202,21 +198,9 @@ DriverState restore_run_state(const Archive& a, Model<dim>& m, const std::vector
   if (a.integer("points/state_stride") != m.state_stride())
     throw InputError(fmt::format("{}: {} state values per point; this case's materials have {}", a.source(),
                                  a.integer("points/state_stride"), m.state_stride()));
-  a.get_objects("points/position", n, p.position);
-  a.get_objects("points/original_position", n, p.original_position);
-  p.volume = a.reals("points/volume", n);
-  p.original_volume = a.reals("points/original_volume", n);
-  p.mass = a.reals("points/mass", n);
-  const auto& mat = a.integers("points/material", n);
-  p.material.assign(mat.begin(), mat.end());
-  a.get_objects("points/F", n, p.F);
-  a.get_objects("points/stress", n, p.stress);
-  p.fbar_jacobian = a.reals("points/fbar_jacobian", n);
+  p.for_each_array([&](const char* name, auto& v) { get_array(a, std::string("points/") + name, n, v); });
   p.state_stride = m.state_stride();
   p.state = a.reals("points/state", n * p.state_stride);
-  a.get_objects("points/half_length", n, p.half_length);
-  a.get_objects("points/original_half_length", n, p.original_half_length);
-  a.get_objects("points/force", n, p.force);
   for (PostStepStage<dim>* s : stages) s->restore(a);
   DriverState d;
   d.load_factor = a.real("driver/load_factor");

@@ -27,6 +27,9 @@
 
 namespace gradmpm {
 
+/// Where the checkpoints of the run whose output folder is `out_dir` go: DIR.checkpoints.
+std::filesystem::path checkpoint_folder_of(const std::filesystem::path& out_dir);
+
 /// The checkpoint folder of a run and the writing of its checkpoints.
 class CheckpointFolder {
  public:

@@ -99,9 +99,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   double classical_seconds = 0.0;
   std::optional<Restart> restart;
   if (!options.restart.empty()) restart = read_checkpoint(options.restart, case_text, dim);
-  const CheckpointFolder checkpoints(
-      options.checkpoints.empty() ? fs::path(dir.string() + ".checkpoints") : options.checkpoints,
-      shown.string() + ".checkpoints", output.checkpoint_every, output.checkpoint_keep);
+  const CheckpointFolder checkpoints(options.checkpoints.empty() ? checkpoint_folder_of(dir) : options.checkpoints,
+                                     checkpoint_folder_of(shown).string(), output.checkpoint_every,
+                                     output.checkpoint_keep);
 
   std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
   std::string history = "step,load_factor,iteration,residual\n";

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "gradmpm/app/BarCase.hpp"
+#include "gradmpm/app/Checkpoint.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/io/RunFolder.hpp"
@@ -67,7 +68,7 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
       run_mpm_case(cf, folder.staging(),
                    MpmRunOptions{.quiet = options.quiet,
                                  .shown = out_dir,
-                                 .checkpoints = folder.dir().string() + ".checkpoints",
+                                 .checkpoints = checkpoint_folder_of(folder.dir()),
                                  .restart = options.restart});
   } catch (const SolverError&) {
     folder.publish();

@@ -1,9 +1,7 @@
 #include "gradmpm/io/Hdf5Archive.hpp"
 
-#include <fcntl.h>
 #include <fmt/format.h>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <sstream>
@@ -98,10 +96,6 @@ void write_hdf5_archive(const std::filesystem::path& path, const Archive& a) {
       throw OutputError(fmt::format("{}: cannot close the checkpoint file (disk full?)", path.string()));
     file.id = -1;
   }
-  const int fd = ::open(path.c_str(), O_RDONLY);
-  const bool synced = fd >= 0 && ::fsync(fd) == 0;
-  if (fd >= 0) ::close(fd);
-  if (!synced) throw OutputError(fmt::format("{}: cannot flush the checkpoint file to disk", path.string()));
 }
 
 Archive read_hdf5_archive(const std::filesystem::path& path) {

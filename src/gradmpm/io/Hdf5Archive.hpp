@@ -11,7 +11,8 @@
 
 namespace gradmpm {
 
-/// Writes `a` to `file` (replacing it) and flushes it to disk (fsync); throws OutputError.
+/// Writes `a` to `file` (replacing it) and closes it; throws OutputError. Flushing it to
+/// disk (fsync) is the caller's (app/Checkpoint.cpp does, before it publishes).
 void write_hdf5_archive(const std::filesystem::path& file, const Archive& a);
 
 /// Reads every array of `file`; throws InputError (not HDF5, damaged, checksum mismatch).

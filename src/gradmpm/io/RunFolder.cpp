@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <stdio.h>  // renameat2 (glibc >= 2.28)
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -15,6 +14,7 @@
 #include <sstream>
 
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/io/AtomicFiles.hpp"
 
 namespace gradmpm {
 
@@ -113,34 +113,21 @@ void RunFolder::publish() {
     if (!out)
       throw OutputError(fmt::format("{}: cannot write ({})", (staging_ / kManifest).string(), std::strerror(errno)));
   }
-  std::error_code ec;
-  if (!fs::exists(dir_)) {
-    fs::rename(staging_, dir_, ec);
-    if (ec) throw OutputError(fmt::format("{}: cannot publish the run ({})", dir_.string(), ec.message()));
-    published_ = true;
-    return;
-  }
   // Keep the user's files: hard links (or copies) in the staging folder, so that no moment
   // loses them (the originals stay in DIR until the swap).
-  const std::set<std::string> earlier = manifest_of(dir_);
-  for (const auto& e : fs::directory_iterator(dir_, ec)) {
-    const std::string name = e.path().filename().string();
-    if (earlier.count(name) || is_gradmpm_output_name(name) || fs::exists(staging_ / name)) continue;
-    if (::link(e.path().c_str(), (staging_ / name).c_str()) != 0) fs::copy(e.path(), staging_ / name, ec);
+  std::error_code ec;
+  if (fs::exists(dir_)) {
+    const std::set<std::string> earlier = manifest_of(dir_);
+    for (const auto& e : fs::directory_iterator(dir_, ec)) {
+      const std::string name = e.path().filename().string();
+      if (earlier.count(name) || is_gradmpm_output_name(name) || fs::exists(staging_ / name)) continue;
+      (void)link_or_copy(e.path(), staging_ / name);
+    }
   }
   // The swap: one atomic rename.
-  if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, dir_.c_str(), RENAME_EXCHANGE) != 0) {
-    if (errno != EINVAL && errno != ENOSYS)
-      throw OutputError(fmt::format("{}: cannot publish the run ({})", dir_.string(), std::strerror(errno)));
-    // A file system without RENAME_EXCHANGE: two renames (DIR is absent between them).
-    const fs::path old = sibling(dir_, ".staging-" + std::to_string(::getpid()) + "-old");
-    fs::rename(dir_, old, ec);
-    if (!ec) fs::rename(staging_, dir_, ec);
-    if (ec) throw OutputError(fmt::format("{}: cannot publish the run ({})", dir_.string(), ec.message()));
-    fs::remove_all(old, ec);
-  }
+  move_into_place(staging_, dir_, sibling(dir_, ".staging-" + std::to_string(::getpid()) + "-old"),
+                  dir_.string() + ": cannot publish the run");
   published_ = true;
-  fs::remove_all(staging_, ec);  // the previous run's folder
 }
 
 std::string RunFolder::summary() const {

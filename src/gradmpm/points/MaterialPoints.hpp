@@ -29,6 +29,17 @@ struct MaterialPoints {
   std::vector<Vec<dim>> force;                 ///< point load at load factor 1
 
   int size() const { return static_cast<int>(position.size()); }
+
+  /// Calls f(name, array) for every array above with one entry per point (all but the
+  /// state block): what a checkpoint stores (app/Checkpoint.cpp). A new array goes here too.
+  template <class F>
+  void for_each_array(F&& f) {
+    visit_arrays(*this, f);
+  }
+  template <class F>
+  void for_each_array(F&& f) const {
+    visit_arrays(*this, f);
+  }
   double* state_of(int p) { return state.data() + static_cast<std::size_t>(p) * state_stride; }
   const double* state_of(int p) const { return state.data() + static_cast<std::size_t>(p) * state_stride; }
 
@@ -46,6 +57,23 @@ struct MaterialPoints {
     half_length.push_back(lp);
     original_half_length.push_back(lp);
     force.push_back(Vec<dim>::Zero());
+  }
+
+ private:
+  template <class Self, class F>
+  static void visit_arrays(Self& p, F& f) {
+    f("position", p.position);
+    f("original_position", p.original_position);
+    f("volume", p.volume);
+    f("original_volume", p.original_volume);
+    f("mass", p.mass);
+    f("material", p.material);
+    f("F", p.F);
+    f("stress", p.stress);
+    f("fbar_jacobian", p.fbar_jacobian);
+    f("half_length", p.half_length);
+    f("original_half_length", p.original_half_length);
+    f("force", p.force);
   }
 };
 
