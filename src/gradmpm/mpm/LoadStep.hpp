@@ -127,13 +127,13 @@ class LoadStep {
       }
     }
     if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
-    scatter_internal_force(f_int);
-    if (ghost_) ghost_->add_force(dofs_, du, f_int);
-    if (contact_) contact_->add_force(du, f_int);
+    scatter_internal_force(du, f_int);
   }
 
-  /// f_int,i = sum_p w_p stress_p grad N_i, by buckets of points with disjoint nodes.
-  void scatter_internal_force(Vector& f_int) const {
+  /// f_int,i = sum_p w_p stress_p grad N_i, by buckets of points with disjoint nodes; then
+  /// the penalty terms at the iterate du (ghost faces, rigid-box contacts), which act as
+  /// internal forces of the grid.
+  void scatter_internal_force(const Vector& du, Vector& f_int) {
     assembler_.for_each_point_disjoint([&](int p) {
       const Stencil<dim>& s = st_[p];
       const auto& G = grads_[p];
@@ -145,6 +145,8 @@ class LoadStep {
           f_int[dofs_.dof(s.node[a], i)] += weights_[p] * f;
         }
     });
+    if (ghost_) ghost_->add_force(dofs_, du, f_int);
+    if (contact_) contact_->add_force(du, f_int);
   }
 
   /// The tangent K at the state of the last internal_force(): each point's material
@@ -315,9 +317,7 @@ class LoadStep {
         }
       weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
     }
-    scatter_internal_force(f_int);
-    if (ghost_) ghost_->add_force(dofs_, du, f_int);
-    if (contact_) contact_->add_force(du, f_int);
+    scatter_internal_force(du, f_int);
   }
 
   /// A -> A - Q (x) I (the local part of the F-bar tangent); keeps Q_p for the coupling.
