@@ -36,7 +36,7 @@ const std::vector<unsigned>& active_sets() {
   }();
   return sets;
 }
-constexpr unsigned kMohrCoulombPlanes = 0b000111111, kCutoffPlanes = 0b111000000;
+constexpr unsigned kCutoffPlanes = 0b111000000;  // bits 6-8
 
 using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
 using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
@@ -50,6 +50,14 @@ MohrCoulomb::MohrCoulomb(const IsotropicElasticity& e, double rho, const MohrCou
       cohesion_{p.cohesion, p.hardening, p.residual_cohesion} {
   D_ = e.lambda * kOnes * kOnes.transpose() + 2.0 * e.mu * Mat3::Identity();
   D_inv_ = D_.inverse();
+  // The planes a_j . sigma = strength_j and their flow directions b_j: Mohr-Coulomb's six,
+  // k sigma_i - sigma_j (the main plane first, then the two beyond its edges sigma_2 =
+  // sigma_3 and sigma_1 = sigma_2, then the other three, which the apex needs), and the
+  // cut-off's three.
+  a_ = {
+      {{k_, 0, -1}, {k_, -1, 0}, {0, k_, -1}, {-1, k_, 0}, {-1, 0, k_}, {0, -1, k_}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  b_ = {
+      {{m_, 0, -1}, {m_, -1, 0}, {0, m_, -1}, {-1, m_, 0}, {-1, 0, m_}, {0, -1, m_}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
 }
 
 MohrCoulomb::Region MohrCoulomb::region(const MaterialResponse& r) {
@@ -63,60 +71,64 @@ MohrCoulomb::Region MohrCoulomb::region(const MaterialResponse& r) {
 }
 
 MohrCoulomb::Return MohrCoulomb::return_map(const Eigen::Vector3d& tr, double s) const {
-  // The planes a_j . sigma = strength_j and their flow directions b_j: Mohr-Coulomb's six,
-  // k sigma_i - sigma_j (the main plane first, then the two beyond its edges sigma_2 =
-  // sigma_3 and sigma_1 = sigma_2, then the other three, which the apex needs), and the
-  // cut-off's three.
-  const Eigen::Vector3d a[9] = {{k_, 0, -1}, {k_, -1, 0}, {0, k_, -1}, {-1, k_, 0}, {-1, 0, k_},
-                                {0, -1, k_}, {1, 0, 0},   {0, 1, 0},   {0, 0, 1}};
-  const Eigen::Vector3d b[9] = {{m_, 0, -1}, {m_, -1, 0}, {0, m_, -1}, {-1, m_, 0}, {-1, 0, m_},
-                                {0, -1, m_}, {1, 0, 0},   {0, 1, 0},   {0, 0, 1}};
-  const bool cutoff = std::isfinite(sigma_t_);
-  auto strength = [&](int j) { return j < 6 ? s : sigma_t_; };
-  Return out;
-  out.sigma = tr;
-  out.P = Mat3::Identity();
-  out.g.setZero();
-  const double scale = tr.cwiseAbs().maxCoeff() + std::abs(s) + (cutoff ? std::abs(sigma_t_) : 0.0);
+  const Return elastic{0, tr, Mat3::Identity(), Eigen::Vector3d::Zero()};
   // In sorted space the plane and the first cut-off plane bound the others.
-  if (a[0].dot(tr) <= s && (!cutoff || tr[0] <= sigma_t_)) return out;
-  for (unsigned set : active_sets()) {
-    if (!cutoff && (set & kCutoffPlanes)) continue;
-    int j_of[3], n = 0;
-    for (int j = 0; j < 9; ++j)
-      if (set & (1u << j)) j_of[n++] = j;
-    Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> A(3, n), DB(3, n);
-    SmallVector rhs(n), strong(n);
-    for (int i = 0; i < n; ++i) {
-      A.col(i) = a[j_of[i]];
-      DB.col(i) = D_ * b[j_of[i]];
-      rhs[i] = a[j_of[i]].dot(tr) - strength(j_of[i]);
-      strong[i] = j_of[i] < 6 ? 1.0 : 0.0;
-    }
-    const Small M = A.transpose() * DB;
-    Eigen::FullPivLU<Small> lu(M);
-    lu.setThreshold(1e-12);
-    if (lu.rank() < n) continue;
-    const SmallVector d_lambda = lu.solve(rhs);
-    if (d_lambda.minCoeff() < -1e-12 * scale / D_(0, 0)) continue;
-    const Eigen::Vector3d sigma = tr - DB * d_lambda;
-    bool admissible = true;
-    for (int j = 0; j < (cutoff ? 9 : 6); ++j)
-      admissible = admissible && a[j].dot(sigma) - strength(j) <= 1e-10 * scale;
-    if (!admissible) continue;
-    const Small Minv = lu.inverse();
-    out.active = set;
-    out.sigma = sigma;
-    // Three independent planes fix the stress: P vanishes (exactly, not to round-off).
-    out.P = n == 3 ? Mat3::Zero() : Mat3(Mat3::Identity() - DB * Minv * A.transpose());
-    out.g = DB * (Minv * strong);
-    return out;
+  if (a_[0].dot(tr) <= s && (!std::isfinite(sigma_t_) || tr[0] <= sigma_t_)) return elastic;
+  Return out;
+  for (unsigned set : active_sets())
+    if (return_onto(set, tr, s, out)) return out;
+  return beyond_apex(s);
+}
+
+MohrCoulomb::Return MohrCoulomb::return_map(const Eigen::Vector3d& tr, double s, unsigned active) const {
+  if (active == 0) return {0, tr, Mat3::Identity(), Eigen::Vector3d::Zero()};
+  Return out;
+  if (return_onto(active, tr, s, out)) return out;
+  return beyond_apex(s);  // the set that return_map(tr, s) found no return onto
+}
+
+bool MohrCoulomb::return_onto(unsigned set, const Eigen::Vector3d& tr, double s, Return& out) const {
+  const bool cutoff = std::isfinite(sigma_t_);
+  if (!cutoff && (set & kCutoffPlanes)) return false;
+  auto strength = [&](int j) { return j < 6 ? s : sigma_t_; };
+  const double scale = tr.cwiseAbs().maxCoeff() + std::abs(s) + (cutoff ? std::abs(sigma_t_) : 0.0);
+  int j_of[3], n = 0;
+  for (int j = 0; j < 9; ++j)
+    if (set & (1u << j)) j_of[n++] = j;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> A(3, n), DB(3, n);
+  SmallVector rhs(n), strong(n);
+  for (int i = 0; i < n; ++i) {
+    A.col(i) = a_[j_of[i]];
+    DB.col(i) = D_ * b_[j_of[i]];
+    rhs[i] = a_[j_of[i]].dot(tr) - strength(j_of[i]);
+    strong[i] = j_of[i] < 6 ? 1.0 : 0.0;
   }
+  const Small M = A.transpose() * DB;
+  Eigen::FullPivLU<Small> lu(M);
+  lu.setThreshold(1e-12);
+  if (lu.rank() < n) return false;
+  const SmallVector d_lambda = lu.solve(rhs);
+  if (d_lambda.minCoeff() < -1e-12 * scale / D_(0, 0)) return false;
+  const Eigen::Vector3d sigma = tr - DB * d_lambda;
+  bool admissible = true;
+  for (int j = 0; j < (cutoff ? 9 : 6); ++j) admissible = admissible && a_[j].dot(sigma) - strength(j) <= 1e-10 * scale;
+  if (!admissible) return false;
+  const Small Minv = lu.inverse();
+  out.active = set;
+  out.sigma = sigma;
+  // Three independent planes fix the stress: P vanishes (exactly, not to round-off).
+  out.P = n == 3 ? Mat3::Zero() : Mat3(Mat3::Identity() - DB * Minv * A.transpose());
+  out.g = DB * (Minv * strong);
+  return true;
+}
+
+MohrCoulomb::Return MohrCoulomb::beyond_apex(double s) const {
   // No flow directions reach the stress: beyond the apex with too little dilation (psi = 0:
   // deviatoric flow never changes the mean stress). The apex then acts as a cut-off of the
   // mean stress (as Clausen et al. do), or the cut-off's apex when that is lower.
   const double apex = s / (k_ - 1.0);
-  const bool cut = cutoff && sigma_t_ < apex;
+  const bool cut = std::isfinite(sigma_t_) && sigma_t_ < apex;
+  Return out;
   out.active = cut ? kCutoffPlanes : 0b111;
   out.sigma = (cut ? sigma_t_ : apex) * kOnes;
   out.P.setZero();
@@ -158,7 +170,8 @@ void MohrCoulomb::tangent(const MaterialResponse& r, int dim, Mat9& A) const {
   const ElasticTrial trial = load_trial(r);
   const Eigen::Vector3d eps = trial.log_strain();
   const Eigen::Vector3d tr = descending(D_ * eps);
-  const Return ret = return_map(tr, r.cache[kStrength]);
+  // The active set update() found: the same return, without the search.
+  const Return ret = return_map(tr, r.cache[kStrength], static_cast<unsigned>(r.cache[kActive]));
   // d sigma / d trial = P + g w^T, w from the strength equation: d s = slope d kappa,
   // d kappa = sqrt(2/3) nu . D^-1 ((I - P) d tr - g d s), nu = eps_p / |eps_p|.
   Mat3 ds = ret.P;

@@ -16,6 +16,7 @@
 // softening adds one scalar equation, sigma_c = sigma_c(kappa(sigma_c)), solved by Newton.
 // The derivative of the whole is the algorithmic tangent; psi < phi gives a non-symmetric
 // tangent, solved as such. eps_p accumulates kappa = int sqrt(2/3) |d eps_p|.
+#include <array>
 #include <limits>
 
 #include "gradmpm/materials/PlasticLaw.hpp"
@@ -61,9 +62,19 @@ class MohrCoulomb final : public PlasticLaw {
     Eigen::Vector3d g;
   };
   Return return_map(const Eigen::Vector3d& trial, double s) const;
+  /// The same return when the active set is known (`active`, from an earlier return of
+  /// this trial at this strength, as the tangent has it): no search over the sets.
+  Return return_map(const Eigen::Vector3d& trial, double s, unsigned active) const;
 
  private:
+  /// The closest point on the planes of `set` (into `out`); false when they cannot hold
+  /// the stress (dependent planes, a negative multiplier, another plane violated).
+  bool return_onto(unsigned set, const Eigen::Vector3d& trial, double s, Return& out) const;
+  /// Beyond the apex, where no set holds the stress.
+  Return beyond_apex(double s) const;
+
   double k_, m_, sigma_t_;
+  std::array<Eigen::Vector3d, 9> a_, b_;  ///< the planes' normals and flow directions
   LinearStrength cohesion_;
   Mat3 D_, D_inv_;  ///< principal elasticity lambda 1(x)1 + 2 mu I and its inverse
 };
