@@ -67,6 +67,24 @@ const SectionSpec& gradient_section() {
   return s;
 }
 
+const SectionSpec& regularisation_section() {
+  static const SectionSpec s{
+      "regularisation", SectionKind::Section, false, "implicit-gradient regularisation of softening plasticity (docs/shear-bands.md)",
+      {{.name = "type", .type = K::String, .default_value = std::string("none"), .choices = {"none", "implicit-gradient"},
+        .doc = "`implicit-gradient`: every softening material's strength follows kappa_hat = (1 - m) kappa + m kappa_bar, kappa_bar - l^2 laplacian kappa_bar = kappa"},
+       {.name = "length_scale", .type = K::Number, .default_text = "required unless `none`", .min = 0.0, .min_open = true,
+        .allowed = "a length scale l > 0", .doc = "l, the internal length of the nonlocal plastic strain"},
+       {.name = "nonlocal_weight", .type = K::Number, .default_value = 2.0, .min = 1.0,
+        .allowed = "a weight m >= 1", .doc = "m; m > 1 (over-nonlocal) regularises fully, m = 1 does not"},
+       {.name = "history", .type = K::String, .default_value = std::string("points"), .choices = {"points", "grid"},
+        .doc = "`points`: kappa_bar of the last step starts the next step's iteration; `grid`: recomputed from kappa_n on the new step's grid"},
+       {.name = "max_iterations", .type = K::Integer, .default_value = static_cast<long long>(Regularisation{}.max_iterations), .min = 1.0, .max = 10000.0,
+        .doc = "staggered iterations (Newton, then kappa_bar) per load step before it is cut"},
+       {.name = "tolerance", .type = K::Number, .default_value = Regularisation{}.tolerance, .min = 0.0, .max = 1.0, .min_open = true,
+        .max_open = true, .doc = "the staggered iteration stops when kappa_bar changes by less than this times its largest value (and Newton is in balance with it)"}}};
+  return s;
+}
+
 const SectionSpec& bar_mpm_gradient_section() {
   static const SectionSpec s = [] {
     SectionSpec g = gradient_section();
@@ -164,7 +182,7 @@ const std::vector<SectionSpec>& mpm_sections() {
            .doc = "acceleration at load factor 1; body force m_p g"}}},
         {"constraints", SectionKind::Array, false, "grid-node constraints",
          {{.name = "name", .type = K::String, .default_text = "none",
-           .doc = "names the node set: its reaction and mean displacement go to reactions.csv every step (blocks of one name form one set)"},
+           .doc = "names the node set: its reaction and mean displacement (over the nodes the step solved for) go to reactions.csv every step (blocks of one name form one set)"},
           {.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
            .doc = "node set: a grid face"},
           {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
@@ -217,6 +235,7 @@ const std::vector<SectionSpec>& mpm_sections() {
           {.name = "checkpoint_keep", .type = K::Integer, .default_value = static_cast<long long>(MpmOutputSettings{}.checkpoint_keep), .min = 0.0, .max = 1e9,
            .allowed = "an integer from 0 (keep all) to 1000000000", .doc = "how many of the latest checkpoints are kept; 0: all"}}},
         gradient_section(),
+        regularisation_section(),
     };
   }();
   return s;

@@ -14,6 +14,8 @@ namespace gradmpm {
 const SectionSpec& linear_solver_section();
 /// [gradient] of MPM cases and of the bar as MPM (variant defaults to "none").
 const SectionSpec& gradient_section();
+/// [regularisation] of MPM cases (implicit-gradient plasticity).
+const SectionSpec& regularisation_section();
 /// [gradient] of the bar as MPM: gradient_section(), required.
 const SectionSpec& bar_mpm_gradient_section();
 /// [gradient] of the FEM bar: variant and length_scale, variant required.

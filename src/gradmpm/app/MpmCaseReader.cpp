@@ -63,6 +63,37 @@ Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
   return b;
 }
 
+/// [regularisation]: makes every softening material regularised (materials/PlasticLaw.hpp)
+/// and keeps the settings of the nonlocal field in the model.
+template <int dim>
+void read_regularisation(const CaseFile& cf, const std::vector<std::string>& names, Model<dim>& m) {
+  const SectionSpec& sec = regularisation_section();
+  if (read_string(cf, sec.name, sec.key("type")) == "none") {
+    for (const auto& key : sec.keys)
+      if (key.name != "type")
+        cf.require(!cf.has(sec.name + "." + key.name), sec.name + "." + key.name,
+                   "no such key when regularisation.type = \"none\" (it would have no effect)");
+    return;
+  }
+  m.regularisation.length_scale = read_number(cf, sec.name, sec.key("length_scale"));
+  m.regularisation.start_from_points = read_string(cf, sec.name, sec.key("history")) == "points";
+  m.regularisation.max_iterations = static_cast<int>(read_integer(cf, sec.name, sec.key("max_iterations")));
+  m.regularisation.tolerance = read_number(cf, sec.name, sec.key("tolerance"));
+  const double weight = read_number(cf, sec.name, sec.key("nonlocal_weight"));
+  int softening = 0;
+  for (std::size_t i = 0; i < m.materials.size(); ++i) {
+    if (!m.materials[i]->softens()) continue;
+    auto regularised = m.materials[i]->regularised(weight);
+    cf.require(
+        regularised != nullptr, "materials." + names[i] + ".model",
+        fmt::format("a law with an implicit-gradient regularisation (\"{}\" has none)", m.materials[i]->model()));
+    m.materials[i] = std::move(regularised);
+    ++softening;
+  }
+  cf.require(softening > 0, "regularisation.type",
+             "\"none\" when no material softens (hardening < 0): implicit-gradient regularises softening laws only");
+}
+
 }  // namespace
 
 template <int dim>
@@ -123,6 +154,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     cf.check_section_keys(k, keys, fmt::format("[{}] with model = \"{}\"", k, model));
     m.materials.push_back(law->make(cf, k, *law));
   }
+  read_regularisation(cf, names, m);
 
   // --- bodies: material points at sub-cell centres inside each body
   const std::size_t nb = cf.array_size("bodies");

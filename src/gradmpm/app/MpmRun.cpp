@@ -75,8 +75,9 @@ template <int dim>
 void print_step(const StepInfo& info) {
   std::string res;
   for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
-  fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}  residuals{}{}  ({:.2f} s)\n", info.step,
-             info.load_factor, static_cast<int>(info.residuals.size()) - 1, info.cuts, res,
+  fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}{}  residuals{}{}  ({:.2f} s)\n", info.step,
+             info.load_factor, info.phases.iterations, info.cuts,
+             info.staggers ? fmt::format("  staggers {}", info.staggers) : "", res,
              info.indefinite_solves
                  ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves)
                  : "",
@@ -141,15 +142,20 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     };
     if (!m.node_sets.empty()) {
       const Vector R = info.grid_reaction(), du = info.grid_displacement();
+      const std::vector<bool> solved = info.grid_active();
       for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
         const auto& set = m.node_sets[b];
         Vec<dim> r = Vec<dim>::Zero(), mean = Vec<dim>::Zero();
-        for (int n : set.nodes)
+        int active = 0;  // the mean displacement is over the nodes the step solved for
+        for (int n : set.nodes) {
+          if (!solved[n]) continue;
+          ++active;
           for (int d = 0; d < dim; ++d) {
             r[d] += R[n * dim + d];
             mean[d] += du[n * dim + d];
           }
-        block_u[b] += mean / static_cast<double>(set.nodes.size());
+        }
+        if (active > 0) block_u[b] += mean / static_cast<double>(active);
         row(set.name, r, block_u[b]);
       }
     }

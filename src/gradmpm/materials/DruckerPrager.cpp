@@ -44,9 +44,10 @@ void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state,
   const Eigen::Vector3d s_tr = 2.0 * G * (eps_tr - eps_tr.mean() * kOnes);
   const double j2_tr = s_tr.norm() / std::sqrt(2.0);  // sqrt(J2)
   const double kappa_n = state_n[kKappa];
+  const LinearStrength cohesion = local_strength(state_n);
   bool at_floor = false;
-  const double c_n = cohesion(kappa_n, &at_floor);
-  double H = at_floor ? 0.0 : cohesion_.slope;
+  const double c_n = cohesion.at(kappa_n, &at_floor);
+  double H = at_floor ? 0.0 : cohesion.slope;
   const double phi = j2_tr + eta_ * p_tr - xi_ * c_n;
 
   Eigen::Vector3d s = s_tr;
@@ -54,9 +55,13 @@ void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state,
   if (phi > 0.0) {
     // Smooth cone: d_gamma from Phi(d_gamma) = 0 (linear in d_gamma with linear hardening).
     double d_gamma = phi / (G + K * eta_ * eta_bar_ + xi_ * xi_ * H);
-    if (cohesion_.passes_floor(kappa_n, xi_ * d_gamma)) {
+    if (cohesion.passes_floor(kappa_n, xi_ * d_gamma)) {
       H = 0.0;
-      d_gamma = (j2_tr + eta_ * p_tr - xi_ * cohesion_.residual) / (G + K * eta_ * eta_bar_);
+      d_gamma = (j2_tr + eta_ * p_tr - xi_ * cohesion.residual) / (G + K * eta_ * eta_bar_);
+    } else if (cohesion.leaves_floor(kappa_n, xi_ * d_gamma)) {  // regularised: a rising strength
+      H = cohesion.slope;
+      d_gamma =
+          (j2_tr + eta_ * p_tr - xi_ * (cohesion.initial + H * kappa_n)) / (G + K * eta_ * eta_bar_ + xi_ * xi_ * H);
     }
     if (j2_tr - G * d_gamma >= 0.0 || eta_ == 0.0) {  // (phi = 0: a von Mises cylinder, no apex)
       d_gamma = std::min(d_gamma, j2_tr / G);
@@ -67,14 +72,17 @@ void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state,
       kappa = kappa_n + xi_ * d_gamma;
     } else {  // apex: s = 0, p on the apex of the current cone
       region = 2.0;
-      H = at_floor ? 0.0 : cohesion_.slope;
+      H = at_floor ? 0.0 : cohesion.slope;
       // alpha = xi / eta_bar relates kappa to the plastic volume change; with psi = 0 there
       // is none and the apex acts as a tension cut-off (kappa unchanged, no stiffness).
       const double alpha = eta_bar_ > 0.0 ? xi_ / eta_bar_ : 0.0, b = xi_ / eta_;
       double dv = (p_tr - b * c_n) / (K + alpha * b * H);
-      if (cohesion_.passes_floor(kappa_n, alpha * dv)) {
+      if (cohesion.passes_floor(kappa_n, alpha * dv)) {
         H = 0.0;
-        dv = (p_tr - b * cohesion_.residual) / K;
+        dv = (p_tr - b * cohesion.residual) / K;
+      } else if (cohesion.leaves_floor(kappa_n, alpha * dv)) {
+        H = cohesion.slope;
+        dv = (p_tr - b * (cohesion.initial + H * kappa_n)) / (K + alpha * b * H);
       }
       beta = 0.0;
       s.setZero();
@@ -83,7 +91,7 @@ void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state,
     }
   }
   const Eigen::Vector3d tau = s + p * kOnes, eps_e = s / (2.0 * G) + p / (3.0 * K) * kOnes;
-  finish_update(trial, tau, eps_e, kappa, {beta, region, H}, state, out);
+  finish_update(trial, tau, eps_e, kappa, {beta, region, H}, state_n, state, out);
 }
 
 void DruckerPrager::tangent(const MaterialResponse& r, int dim, Mat9& A) const {

@@ -41,6 +41,8 @@ class DruckerPrager final : public PlasticLaw {
   double eta_bar() const { return eta_bar_; }
 
  private:
+  const LinearStrength& law_strength() const override { return cohesion_; }
+  std::shared_ptr<PlasticLaw> clone() const override { return std::make_shared<DruckerPrager>(*this); }
   LinearStrength cohesion_;
   double eta_, xi_, eta_bar_;
 };

@@ -90,6 +90,12 @@ class Material {
   const IsotropicElasticity& elasticity() const { return elasticity_; }
   double density() const { return density_; }  ///< reference mass density rho_0
 
+  /// Whether the strength falls with plastic strain (what [regularisation] acts on).
+  virtual bool softens() const { return false; }
+  /// This law with the implicit-gradient regularisation of weight m (docs/shear-bands.md),
+  /// or null when the law has none.
+  virtual std::shared_ptr<const Material> regularised(double /*m*/) const { return nullptr; }
+
   int state_size() const;
   /// Writes the initial values of every state variable.
   void initial_state(double* state) const;

@@ -142,7 +142,8 @@ void MohrCoulomb::update(const Mat3& dF, const double* state_n, double* state, M
   const Eigen::Vector3d tr = descending(D_ * eps_tr);  // sorted principal trial Kirchhoff stresses
   const double kappa_n = state_n[kKappa], root_k = 2.0 * std::sqrt(k_);
   // sigma_c = 2 sqrt(k) c(kappa(sigma_c)): Newton on the strength (one pass without softening).
-  double s = strength(kappa_n), slope = 0.0, kappa = kappa_n;
+  const LinearStrength cohesion = local_strength(state_n);
+  double s = root_k * cohesion.at(kappa_n), slope = 0.0, kappa = kappa_n;
   Return ret;
   for (int it = 0;; ++it) {
     ret = return_map(tr, s);
@@ -150,8 +151,8 @@ void MohrCoulomb::update(const Mat3& dF, const double* state_n, double* state, M
     const double norm = eps_p.norm();
     kappa = kappa_n + std::sqrt(2.0 / 3.0) * norm;
     bool floor = false;
-    const double target = root_k * cohesion_.at(kappa, &floor);
-    slope = ret.active == 0 || floor ? 0.0 : root_k * cohesion_.slope;
+    const double target = root_k * cohesion.at(kappa, &floor);
+    slope = ret.active == 0 || floor ? 0.0 : root_k * cohesion.slope;
     const double residual = s - target;
     if (std::abs(residual) <= 1e-13 * std::max(std::abs(s), root_k * cohesion_.initial)) break;
     if (it == 50) {
@@ -163,7 +164,7 @@ void MohrCoulomb::update(const Mat3& dF, const double* state_n, double* state, M
   }
   const Eigen::Vector3d tau = descending(ret.sigma);
   const Eigen::Vector3d eps_e = D_inv_ * tau;
-  finish_update(trial, tau, eps_e, kappa, {static_cast<double>(ret.active), s, slope}, state, out);
+  finish_update(trial, tau, eps_e, kappa, {static_cast<double>(ret.active), s, slope}, state_n, state, out);
 }
 
 void MohrCoulomb::tangent(const MaterialResponse& r, int dim, Mat9& A) const {

@@ -73,6 +73,9 @@ class MohrCoulomb final : public PlasticLaw {
   /// Beyond the apex, where no set holds the stress.
   Return beyond_apex(double s) const;
 
+  const LinearStrength& law_strength() const override { return cohesion_; }
+  std::shared_ptr<PlasticLaw> clone() const override { return std::make_shared<MohrCoulomb>(*this); }
+
   double k_, m_, sigma_t_;
   std::array<Eigen::Vector3d, 9> a_, b_;  ///< the planes' normals and flow directions
   LinearStrength cohesion_;

@@ -29,17 +29,21 @@ void VonMises::update(const Mat3& dF, const double* state_n, double* state, Mate
   const Eigen::Vector3d s_tr = 2.0 * mu * (eps_tr - volumetric / 3.0 * kOnes);
   const double q_tr = std::sqrt(1.5) * s_tr.norm();
   const double kappa_n = state_n[kKappa];
+  const LinearStrength yield = local_strength(state_n);
   bool at_floor = false;
-  const double f = q_tr - yield_stress(kappa_n, &at_floor);
+  const double f = q_tr - yield.at(kappa_n, &at_floor);
 
   Eigen::Vector3d eps_e = eps_tr, tau = K * volumetric * kOnes + s_tr;
   double kappa = kappa_n, beta = 1.0, flow = 0.0;
   if (f > 0.0) {  // plastic: return to the yield surface
-    double H = at_floor ? 0.0 : yield_.slope;
+    double H = at_floor ? 0.0 : yield.slope;
     double d_gamma = f / (3.0 * mu + H);
-    if (yield_.passes_floor(kappa_n, d_gamma)) {
+    if (yield.passes_floor(kappa_n, d_gamma)) {
       H = 0.0;  // the floor is reached within the step
-      d_gamma = (q_tr - yield_.residual) / (3.0 * mu);
+      d_gamma = (q_tr - yield.residual) / (3.0 * mu);
+    } else if (yield.leaves_floor(kappa_n, d_gamma)) {  // regularised: a rising strength
+      H = yield.slope;
+      d_gamma = (q_tr - (yield.initial + H * kappa_n)) / (3.0 * mu + H);
     }
     beta = 1.0 - 3.0 * mu * d_gamma / q_tr;
     flow = 2.0 * mu * (1.0 - beta - 3.0 * mu / (3.0 * mu + H));
@@ -47,7 +51,7 @@ void VonMises::update(const Mat3& dF, const double* state_n, double* state, Mate
     eps_e = eps_tr - d_gamma * 1.5 * s_tr / q_tr;
     kappa = kappa_n + d_gamma;
   }
-  finish_update(trial, tau, eps_e, kappa, {beta, flow}, state, out);
+  finish_update(trial, tau, eps_e, kappa, {beta, flow}, state_n, state, out);
 }
 
 void VonMises::tangent(const MaterialResponse& r, int dim, Mat9& A) const {

@@ -33,6 +33,8 @@ class VonMises final : public PlasticLaw {
   double yield_stress(double kappa, bool* at_floor = nullptr) const { return yield_.at(kappa, at_floor); }
 
  private:
+  const LinearStrength& law_strength() const override { return yield_; }
+  std::shared_ptr<PlasticLaw> clone() const override { return std::make_shared<VonMises>(*this); }
   LinearStrength yield_;
 };
 

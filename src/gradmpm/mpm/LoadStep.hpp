@@ -71,6 +71,9 @@ class LoadStep {
   const std::vector<int>& constrained() const { return constrained_; }
   const std::vector<double>& increments() const { return increments_; }
   const SparseMatrix& pattern() const { return pattern_; }
+  const PointStencils<dim>& stencils() const { return st_; }
+  /// The state block of the last internal_force() iterate.
+  const std::vector<double>& trial_state() const { return trial_state_; }
   /// The round-off of the internal force: 100 eps_mach E h^(dim-1) sqrt(dofs), the norm of
   /// nodal forces from a stress error of eps_mach E (what the strain of a step cannot
   /// resolve). Newton stops below it whatever the relative residual says (tiny strains).

@@ -44,6 +44,18 @@ struct RigidBox {
   double stiffness = 0.0;             ///< k: contact pressure per unit penetration
 };
 
+/// The implicit-gradient regularisation of the softening laws ([regularisation];
+/// mpm/ImplicitGradient.hpp). The laws themselves are made regularised
+/// (Material::regularised); these are the settings of the nonlocal field they share.
+struct Regularisation {
+  double length_scale = 0.0;  ///< l of kappa_bar - l^2 laplacian kappa_bar = kappa
+  /// Where kappa_bar starts each load step's staggered iteration: kept at the points from
+  /// the end of the last step (true), or recomputed from kappa_n on the new step's grid.
+  bool start_from_points = true;
+  int max_iterations = 100;  ///< staggered iterations per load step before it is cut
+  double tolerance = 1e-6;   ///< on max |d kappa_bar| / max kappa_bar of a staggered iteration
+};
+
 template <int dim>
 struct Model {
   Grid<dim> grid;
@@ -60,6 +72,7 @@ struct Model {
   std::vector<std::pair<int, double>> roller_planes;
   std::vector<NamedNodeSet> node_sets;
   std::vector<RigidBox<dim>> rigid_boxes;
+  Regularisation regularisation;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}
 
@@ -120,6 +133,7 @@ struct PhaseTimes {
   double factor = 0;    ///< numeric factorisations
   double solve = 0;     ///< triangular solves
   double update = 0;    ///< mapping the increment to the points, updating their state
+  double nonlocal = 0;  ///< regularised plasticity: the Helmholtz operator and the kappa_bar solves
   int iterations = 0;   ///< Newton iterations (linear solves)
   PhaseTimes& operator+=(const PhaseTimes& o) {
     pattern += o.pattern;
@@ -128,6 +142,7 @@ struct PhaseTimes {
     factor += o.factor;
     solve += o.solve;
     update += o.update;
+    nonlocal += o.nonlocal;
     iterations += o.iterations;
     return *this;
   }
@@ -154,6 +169,7 @@ struct StepInfo {
   double increment = 0.0;         ///< d lambda of the step
   int cuts = 0;                   ///< halvings needed before this step converged
   std::vector<double> residuals;  ///< normalised out-of-balance force per Newton iteration
+  int staggers = 0;               ///< staggered iterations of kappa_bar (regularised plasticity; 0 without)
   int indefinite_solves =
       0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
   bool last = false;  ///< the step that reaches load factor 1
@@ -162,6 +178,7 @@ struct StepInfo {
   /// steps they write); valid during the post-step stages and the observer call only.
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
   std::function<Vector()> grid_mass;          ///< nodal mass sum_p N_i m_p (eq. 1)
+  std::function<std::vector<bool>()> grid_active;  ///< the nodes the step solved for (in some point's stencil)
   /// f_int - f_ext at the converged iterate at every grid node (dim per node): the
   /// reaction forces on constrained components (~0 elsewhere; zero on inactive nodes).
   std::function<Vector()> grid_reaction;

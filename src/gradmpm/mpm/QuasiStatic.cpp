@@ -8,6 +8,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/core/Timer.hpp"
+#include "gradmpm/mpm/ImplicitGradient.hpp"
 #include "gradmpm/mpm/LoadStep.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
@@ -19,20 +20,35 @@ namespace {
 using detail::LoadStep;
 using detail::StepFailure;
 
-/// Newton-Raphson for one load step; returns the converged increment or throws StepFailure.
+/// The linear solvers of one load step attempt: the pattern is fixed within the step, so
+/// the symbolic analysis is done once, however many Newton solves the step takes.
+struct StepSolvers {
+  std::unique_ptr<LinearSolver> main, general;  ///< general: made when a tangent is not positive definite
+  bool analysed = false;
+};
+
+/// Newton-Raphson for one load step; returns the converged increment or throws
+/// StepFailure. `start`: a converged increment of the same step to start from (a later
+/// staggered iteration of regularised plasticity), the prescribed increments in it.
 template <int dim>
-Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<double>& residuals, int& indefinite,
-              PhaseTimes& times) {
+Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& solvers, StepInfo& info,
+              const Vector* start = nullptr) {
+  PhaseTimes& times = info.phases;
+  std::vector<double> residuals;
   // The first iterate linearises about the converged state (du = 0) and brings the
   // prescribed increments in through the right-hand side: d_c = du_c, K_ff d_f = r_f - K_fc du_c.
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
-  Vector du = Vector::Zero(step.dofs().num_dofs());
+  Vector du = start ? *start : Vector::Zero(step.dofs().num_dofs());
+  const bool applied = start != nullptr;  // the prescribed increments are in du already
   const std::vector<double> zeros(step.constrained().size(), 0.0);
-  // A non-symmetric tangent goes to a general solver as it is: never symmetrised.
-  const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
-  const auto solver = make_linear_solver(settings.linear_solver, kind);
-  solver->describe({dim, [&] { return step.node_coordinates(); }});
-  std::unique_ptr<LinearSolver> general;  // made when a tangent is not positive definite
+  if (!solvers.main) {
+    // A non-symmetric tangent goes to a general solver as it is: never symmetrised.
+    const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
+    solvers.main = make_linear_solver(settings.linear_solver, kind);
+    solvers.main->describe({dim, [&] { return step.node_coordinates(); }});
+  }
+  LinearSolver* solver = solvers.main.get();
+  auto& general = solvers.general;
   Vector f_int;
   SparseMatrix K;
   const double floor = step.roundoff_force();
@@ -44,12 +60,13 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
     const double scale = std::max(step.f_ext().norm(), f_int.norm());
     for (int c : step.constrained()) r[c] = 0.0;
     double err = scale > 0.0 ? r.norm() / scale : 0.0;
-    if (it == 0) {  // the prescribed increments are not applied yet: that is out of balance too
+    if (it == 0 && !applied) {  // the prescribed increments are not applied yet: that is out of balance too
       double pending = 0.0;
       for (double v : step.increments()) pending = std::max(pending, std::abs(v));
       if (pending > 0.0) err = std::max(err, 1.0);
     }
     residuals.push_back(err);
+    info.residuals.push_back(err);
     if (!std::isfinite(err)) throw StepFailure{"the out-of-balance force is not finite"};
     // Converged: relative to the forces, or (after the first iterate) at the round-off of
     // the internal force, which a tiny strain cannot beat.
@@ -66,12 +83,13 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
     bc.apply_to_matrix(K, step.constrained());
-    bc.apply_to_rhs(r, it == 0 ? step.increments() : zeros);
+    bc.apply_to_rhs(r, it == 0 && !applied ? step.increments() : zeros);
     try {
-      if (it == 0) {  // the pattern is fixed within the load step
+      if (!solvers.analysed) {  // the pattern is fixed within the load step
         t0 = Clock::now();
         solver->analyze(K);
         times.analysis += seconds_since(t0);
+        solvers.analysed = true;
       }
       try {
         t0 = Clock::now();
@@ -89,12 +107,41 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, std::vector<d
         general->compute(K);
         du += general->solve(r);
         times.factor += seconds_since(t0);
-        ++indefinite;
+        ++info.indefinite_solves;
       }
       ++times.iterations;
     } catch (const SolverError& e) {
       throw StepFailure{e.what()};
     }
+  }
+}
+
+/// The load step's equilibrium: one Newton solve, or with regularised plasticity the
+/// staggered iteration of mpm/ImplicitGradient.hpp: Newton with kappa_bar frozen, then
+/// kappa_bar = (M + l^2 L)^-1 M kappa of the converged iterate (Anderson-accelerated),
+/// written into the state the step starts from, until kappa_bar stops changing.
+template <int dim>
+Vector solve_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& settings, StepInfo& info) {
+  StepSolvers solvers;
+  if (!NonlocalPlasticStrain<dim>::applies(model)) return newton(step, settings, solvers, info);
+  const auto t0 = Clock::now();
+  NonlocalPlasticStrain<dim> nonlocal(model, step.stencils(), settings.linear_solver);
+  if (!model.regularisation.start_from_points) nonlocal.smooth(model.points.state, model.points.state);
+  info.phases.nonlocal += seconds_since(t0);
+  Vector du = newton(step, settings, solvers, info);
+  for (int k = 1;; ++k) {
+    const auto t1 = Clock::now();
+    const double change = nonlocal.iterate(step.trial_state(), model.points.state);
+    info.phases.nonlocal += seconds_since(t1);
+    ++info.staggers;
+    du = newton(step, settings, solvers, info, &du);
+    // Both fields in balance: kappa_bar moved by less than the tolerance, and the
+    // displacements are in balance with it. (That Newton needed no correction at the new
+    // kappa_bar is not enough: a uniform change of stress leaves a 1D bar in balance
+    // while kappa, and so G(kappa_bar), has changed.)
+    if (change <= model.regularisation.tolerance) return du;
+    if (k == model.regularisation.max_iterations)
+      throw StepFailure{fmt::format("the nonlocal plastic strain did not converge in {} staggered iterations", k)};
   }
 }
 
@@ -114,9 +161,15 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     std::unique_ptr<LoadStep<dim>> step;  // kept for the grid fields the observer may ask for
     Vector du;
     const auto t0 = Clock::now();
+    // The staggered iteration writes kappa_bar into the state the step starts from: a cut
+    // step starts again from the converged state's.
+    const std::vector<double> committed =
+        NonlocalPlasticStrain<dim>::applies(model) ? model.points.state : std::vector<double>{};
     while (true) {
       info.residuals.clear();
       info.phases = PhaseTimes{};
+      info.staggers = 0;
+      info.indefinite_solves = 0;
       try {
         auto t0 = Clock::now();
         try {
@@ -127,7 +180,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
         info.phases.pattern = seconds_since(t0);
         info.dofs = step->dofs().num_dofs();
         info.nonzeros = step->pattern().nonZeros();
-        du = newton(*step, settings, info.residuals, info.indefinite_solves, info.phases);
+        du = solve_step(*step, model, settings, info);
         t0 = Clock::now();
         step->commit(model, du);
         info.phases.update = seconds_since(t0);
@@ -138,6 +191,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
           throw SolverError(
               fmt::format("load step {} failed from load factor {:.6g} with increment {:.3g} after {} cut(s): {}",
                           summary.steps + 1, lambda, dlambda, info.cuts, f.reason));
+        if (!committed.empty()) model.points.state = committed;
         dlambda *= 0.5;
         ++info.cuts;
         ++summary.cuts;
@@ -153,8 +207,13 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.grid_displacement = [&] { return step->on_grid(du); };
     info.grid_reaction = [&] { return step->grid_reaction(); };
     info.grid_mass = [&] { return step->grid_mass(); };
+    info.grid_active = [&] {
+      std::vector<bool> active(model.grid.num_nodes());
+      for (int n = 0; n < model.grid.num_nodes(); ++n) active[n] = step->dofs().active(n);
+      return active;
+    };
     info.rigid_forces = [&] { return step->rigid_forces(); };
-    summary.total_iterations += static_cast<int>(info.residuals.size()) - 1;
+    summary.total_iterations += info.phases.iterations;
     if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
     info.after = DriverState{lambda, dlambda, summary};
     const auto t_stages = Clock::now();
