@@ -82,6 +82,7 @@ void print_step(const StepInfo& info) {
                  ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves)
                  : "",
              info.seconds);
+  for (const std::string& why : info.cut_reasons) fmt::print("             cut: {}\n", why);
   std::fflush(stdout);
 }
 

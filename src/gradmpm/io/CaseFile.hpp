@@ -33,6 +33,9 @@ class CaseFile {
   /// (comments and layout dropped). What a checkpoint records and a restart compares.
   std::string canonical_text() const;
   bool has_section(std::string_view section) const;
+  /// Drops a top-level section, if present: the case without it (the classical run of a
+  /// regularised case, where type = "none" with the section's other keys is refused).
+  void remove_section(std::string_view section) { table_.erase(section); }
 
   /// Declares the keys a section may hold; `required` sections must be present.
   void declare_section(const std::string& section, const std::vector<std::string>& keys, bool required);

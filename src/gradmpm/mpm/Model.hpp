@@ -164,12 +164,13 @@ struct DriverState {
 
 /// What one converged load step did; passed to the observer after every step.
 struct StepInfo {
-  int step = 0;                   ///< 1, 2, ... (converged steps)
-  double load_factor = 0.0;       ///< lambda at the end of the step
-  double increment = 0.0;         ///< d lambda of the step
-  int cuts = 0;                   ///< halvings needed before this step converged
-  std::vector<double> residuals;  ///< normalised out-of-balance force per Newton iteration
-  int staggers = 0;               ///< staggered iterations of kappa_bar (regularised plasticity; 0 without)
+  int step = 0;                          ///< 1, 2, ... (converged steps)
+  double load_factor = 0.0;              ///< lambda at the end of the step
+  double increment = 0.0;                ///< d lambda of the step
+  int cuts = 0;                          ///< halvings needed before this step converged
+  std::vector<std::string> cut_reasons;  ///< why each of those attempts failed
+  std::vector<double> residuals;         ///< normalised out-of-balance force per Newton iteration
+  int staggers = 0;                      ///< staggered iterations of kappa_bar (regularised plasticity; 0 without)
   int indefinite_solves =
       0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
   bool last = false;  ///< the step that reaches load factor 1

@@ -192,6 +192,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
               fmt::format("load step {} failed from load factor {:.6g} with increment {:.3g} after {} cut(s): {}",
                           summary.steps + 1, lambda, dlambda, info.cuts, f.reason));
         if (!committed.empty()) model.points.state = committed;
+        info.cut_reasons.push_back(fmt::format("increment {:.3g}: {}", dlambda, f.reason));
         dlambda *= 0.5;
         ++info.cuts;
         ++summary.cuts;
