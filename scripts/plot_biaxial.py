@@ -7,8 +7,9 @@ side, the platen force against its displacement, and the band's inclination and 
 
 Usage: scripts/plot_biaxial.py [BUILD_DIR] [OUT_DIR]
        (defaults: build, out/biaxial; figures go to docs/figures/)
-A run whose folder already holds points_final.csv is not repeated. All of them take about
-an hour and a half on 2 cores (the regularised h = l/4 run alone about 40 minutes).
+A run whose folder already holds reactions.csv is not repeated (a run stopped short is
+plotted at its last VTU file). The regularised h = l/4 run alone takes well over an hour
+on one core: for docs/shear-bands.md it was stopped at platen 0.018 (step 160).
 """
 import csv
 import math
@@ -35,18 +36,19 @@ def grid(r):
 
 
 def last_vtu(folder):
-    """x, y and eps_p of the points in the run's last points_NNNN.vtu (ASCII VTK XML)."""
+    """The step of the run's last points_NNNN.vtu (ASCII VTK XML), and x, y, eps_p of its points."""
     last = sorted(f for f in os.listdir(folder) if f.startswith("points_") and f.endswith(".vtu"))[-1]
     text = open(os.path.join(folder, last)).read()
     xyz = re.search(r"<Points>\s*<DataArray[^>]*>([^<]*)<", text).group(1).split()
     eps = re.search(r'<DataArray[^>]*Name="eps_p"[^>]*>([^<]*)<', text).group(1).split()
-    return [{"x": float(xyz[3 * i]), "y": float(xyz[3 * i + 1]), "eps_p": float(e)} for i, e in enumerate(eps)]
+    points = [{"x": float(xyz[3 * i]), "y": float(xyz[3 * i + 1]), "eps_p": float(e)} for i, e in enumerate(eps)]
+    return int(last[len("points_"):-len(".vtu")]), points
 
 
 def run(name, r, classical=False, extra=()):
     folder = os.path.join(out, name)
     h, keys = grid(r)
-    if not os.path.exists(os.path.join(folder, "points_final.csv")):
+    if not os.path.exists(os.path.join(folder, "reactions.csv")):
         case = example
         if classical:  # the same case without its [regularisation] section
             text = open(example).read()
@@ -58,17 +60,20 @@ def run(name, r, classical=False, extra=()):
         # a classical run may stop short of the end (points inverted in its one-cell band):
         # its VTU files keep the last fields
         cmd = [os.path.join(build, "bin", "gradmpm"), "run", case, "--out", folder, "-q",
-               "--set", f"output.vtk_every={10 if classical else 0}", "--set", "output.plot=false"]
+               "--set", f"output.vtk_every={10 if classical else 20}", "--set", "output.plot=false"]
         for k in keys + list(extra):
             cmd += ["--set", k]
         subprocess.run(cmd, check=not classical)
+    reactions = list(csv.DictReader(open(os.path.join(folder, "reactions.csv"))))
     final = os.path.join(folder, "points_final.csv")
     if os.path.exists(final):
         points = [dict((k, float(v)) for k, v in p.items()) for p in csv.DictReader(open(final))]
-    else:
-        points = last_vtu(folder)
-    reactions = list(csv.DictReader(open(os.path.join(folder, "reactions.csv"))))
-    return {"h": h, "points": points, "u": [-float(x["uy"]) for x in reactions], "f": [-float(x["ry"]) for x in reactions]}
+        at = -float(reactions[-1]["uy"])
+    else:  # a run stopped short: its last fields
+        step, points = last_vtu(folder)
+        at = next(-float(x["uy"]) for x in reactions if int(x["step"]) == step)
+    return {"h": h, "points": points, "at": at,
+            "u": [-float(x["uy"]) for x in reactions], "f": [-float(x["ry"]) for x in reactions]}
 
 
 def band(points, spacing):
@@ -104,21 +109,22 @@ def band(points, spacing):
 
 regularised = {f"h = l/{2 * r:g}": run(f"reg_r{r:g}", r) for r in (1, 1.5, 2)}
 classical = {f"h = {1 / (24 * r):.4f}": run(f"classical_r{r:g}", r, classical=True) for r in (1, 1.5, 2)}
-half_l = run("reg_l18_r1.5", 1.5, extra=[
+# l = 1/18 (and its weak patch) against the test's l = 1/12, both at h = 1/36 and platen 0.0125
+half_l = run("reg_l18_platen0.0125", 1.5, extra=["rigid_boxes[0].displacement=[0.0,-0.0125]", "load_steps.count=50",
     "regularisation.length_scale=0.055555555555555556",
     "bodies[0].max=[0.055555555555555556,0.055555555555555556]",
     "bodies[1].polygon=[[0.055555555555555556,0.0],[1.0,0.0],[1.0,2.0],[0.0,2.0],[0.0,0.055555555555555556],"
     "[0.055555555555555556,0.055555555555555556]]"])
 
-print("| run | h | platen displacement | force | inclination (deg) | thickness | thickness / l | thickness / h |")
+print("| run | h | platen displacement (fields) | force at the end | inclination (deg) | thickness | thickness / l | thickness / h |")
 print("|---|---|---|---|---|---|---|---|")
 for label, group, l in (("regularised, l = 1/12", regularised, L), ("classical", classical, None)):
     for name, r in group.items():
         a, t = band(r["points"], r["h"] / 2)
-        print(f"| {label}, {name} | {r['h']:.4f} | {r['u'][-1]:.4f} | {r['f'][-1]:.4f} | {a:.2f} | {t:.4f} | "
+        print(f"| {label}, {name} | {r['h']:.4f} | {r['at']:.4f} | {r['f'][-1]:.4f} | {a:.2f} | {t:.4f} | "
               f"{t / l if l else float('nan'):.2f} | {t / r['h']:.2f} |")
 a, t = band(half_l["points"], half_l["h"] / 2)
-print(f"| regularised, l = 1/18, h = l/2 | {half_l['h']:.4f} | {half_l['u'][-1]:.4f} | {half_l['f'][-1]:.4f} | "
+print(f"| regularised, l = 1/18, h = l/2 | {half_l['h']:.4f} | {half_l['at']:.4f} | {half_l['f'][-1]:.4f} | "
       f"{a:.2f} | {t:.4f} | {t * 18:.2f} | {t / half_l['h']:.2f} |")
 
 figures = os.path.join(root, "docs", "figures")
@@ -131,7 +137,7 @@ for row, group, title in ((0, regularised, "regularised, l = 1/12"), (1, classic
         sc = ax.scatter([p["x"] for p in r["points"]], [p["y"] for p in r["points"]],
                         c=[p["eps_p"] for p in r["points"]], s=1.0 * r["h"] * 24, cmap="viridis", vmin=0, vmax=vmax)
         ax.set_aspect("equal")
-        ax.set_title(f"{title}\n{name}", fontsize=9)
+        ax.set_title(f"{title}\n{name}, platen {r['at']:.4f}", fontsize=9)
         fig.colorbar(sc, ax=ax, shrink=0.7, label="eps_p")
 fig.tight_layout()
 fig.savefig(os.path.join(figures, "biaxial_2d_eps_p.png"))
