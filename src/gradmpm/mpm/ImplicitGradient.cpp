@@ -20,7 +20,9 @@ constexpr double kWeakNode = 1e-8;
 /// (measured: a diagonal 3e-11 of the largest, off-diagonals larger than it, when the base
 /// points of examples/biaxial_2d.toml bulge past the base) make the matrix numerically
 /// indefinite, and CHOLMOD refuses it. Their values barely reach any point (weights below
-/// 1e-4 of the largest), so kappa_bar changes by as little.
+/// 1e-4 of the largest), so kappa_bar changes by as little. The step's own cut-off
+/// (drop_weak_nodes, with F-bar) does not catch them: it bounds the support sum N v, which
+/// is linear in N, and that node's was above it; the diagonal here is quadratic.
 template <int dim>
 PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> st, const std::vector<bool>& on) {
   for (int p = 0; p < m.points.size(); ++p)
@@ -31,18 +33,7 @@ PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> 
     for (int a = 0; a < st[p].count; ++a)
       diagonal[st[p].node[a]] += m.points.volume[p] * (st[p].N[a] * st[p].N[a] + l2 * st[p].dN[a].squaredNorm());
   const double weak = kWeakNode * *std::max_element(diagonal.begin(), diagonal.end());
-  for (int p = 0; p < m.points.size(); ++p) {
-    Stencil<dim>& s = st[p];
-    int kept = 0;
-    for (int a = 0; a < s.count; ++a)
-      if (diagonal[s.node[a]] >= weak) {
-        s.node[kept] = s.node[a];
-        s.N[kept] = s.N[a];
-        s.dN[kept] = s.dN[a];
-        ++kept;
-      }
-    s.count = kept;
-  }
+  drop_nodes(st, [&](int node) { return diagonal[node] < weak; });
   return st;
 }
 template <class Slots>

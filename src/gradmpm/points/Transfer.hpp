@@ -68,6 +68,23 @@ PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints
   return evaluate_stencils<dim, GimpBasis<dim>>(grid, points);
 }
 
+/// Removes from every stencil the nodes for which `drop(node)` holds, keeping the order of
+/// the others (their shape functions are left out of the partition of unity).
+template <int dim, class Drop>
+void drop_nodes(PointStencils<dim>& st, Drop&& drop) {
+  for (auto& s : st) {
+    int k = 0;
+    for (int a = 0; a < s.count; ++a)
+      if (!drop(s.node[a])) {
+        s.node[k] = s.node[a];
+        s.N[k] = s.N[a];
+        s.dN[k] = s.dN[a];
+        ++k;
+      }
+    s.count = k;
+  }
+}
+
 /// Removes from every stencil the grid nodes whose support, sum_p N_i(x_p) v_p, is below
 /// `relative` times a cell's volume: a node that points reach only by a sliver (a surface
 /// point that has moved a hair into the next cell, a GIMP domain overlapping a node's
@@ -85,17 +102,7 @@ int drop_weak_nodes(PointStencils<dim>& st, const MaterialPoints<dim>& points, i
   int dropped = 0;
   for (int n = 0; n < num_nodes; ++n) dropped += support[n] > 0.0 && support[n] < floor;
   if (dropped == 0) return 0;
-  for (auto& s : st) {
-    int k = 0;
-    for (int a = 0; a < s.count; ++a)
-      if (!(support[s.node[a]] < floor)) {
-        s.node[k] = s.node[a];
-        s.N[k] = s.N[a];
-        s.dN[k] = s.dN[a];
-        ++k;
-      }
-    s.count = k;
-  }
+  drop_nodes(st, [&](int node) { return support[node] < floor; });
   return dropped;
 }
 
