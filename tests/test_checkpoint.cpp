@@ -135,7 +135,7 @@ TEST_F(CheckpointCli, AKilledRunRestartedFromItsCheckpointEndsAsTheUninterrupted
   EXPECT_NE(again.out.find("restarting from"), std::string::npos);
   EXPECT_EQ(again.out.find("step   15 "), std::string::npos) << "step 15 was solved again";
   EXPECT_EQ(first_difference(whole, killed), "");
-  EXPECT_EQ(files_of(whole).size(), 20u) << "every output but load_displacement.png (a plot of reactions.csv)";
+  EXPECT_EQ(files_of(whole).size(), 21u) << "every output but load_displacement.png (a plot of reactions.csv)";
 }
 
 TEST_F(CheckpointCli, TheGradientFieldsCarriedAtThePointsContinueBitForBit) {

@@ -66,6 +66,10 @@ class ToyAnisotropic final : public Material {
   }
   void tangent(const MaterialResponse&, int, Mat9& A) const override { A = D_; }
   Mat3 elastic_strain(const double* state) const override { return unpack_symmetric(state); }
+  double elastic_energy_density(const double* state) const override {  // its own D, not the isotropic one
+    const Mat3 e = unpack_symmetric(state);
+    return 0.5 * (e.array() * contract(D_, e).array()).sum();
+  }
 
  private:
   Mat9 D_;
@@ -193,13 +197,15 @@ TEST(Recipes, StateVariablesReachTheOutputsByName) {
   run_mpm_case(cf, dir, true);
   const std::string csv = slurp(dir / "points_final.csv");
   const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header, "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,max_compression");
+  EXPECT_EQ(header,
+            "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,max_compression,dissipation");
   // Every row's max_compression is -tr(eps) of the closed form.
   const double expected = -(closed_form_exx() + kTop);
   std::istringstream rows(csv.substr(csv.find('\n') + 1));
   int n = 0;
   for (std::string line; std::getline(rows, line); ++n) {
-    const double last = std::stod(line.substr(line.rfind(',') + 1));
+    const std::string before = line.substr(0, line.rfind(','));  // dissipation is the last column
+    const double last = std::stod(before.substr(before.rfind(',') + 1));
     EXPECT_NEAR(last, expected, 1e-12) << line;
   }
   EXPECT_EQ(n, 64);

@@ -77,7 +77,8 @@ TEST_F(Messages, TheClosingLineListsTheFilesWritten) {
   CliResult r = run_gradmpm("run " + example("column_2d.toml") + " --out " + (dir / "o").string() +
                             " --set output.vtk_every=0 --set output.plot=false");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("wrote " + (dir / "o").string() + ": column_check.csv, newton_history.csv, points_final.csv\n"),
+  EXPECT_NE(r.out.find("wrote " + (dir / "o").string() +
+                       ": column_check.csv, energy.csv, newton_history.csv, points_final.csv\n"),
             std::string::npos)
       << r.out;
   r = run_gradmpm("run " + example("column_2d.toml") + " --out " + (dir / "g").string() +

@@ -41,12 +41,12 @@ TEST_F(MpmCli, ColumnExamplesWritePointsFinalAndMeetTheClosedForm) {
     const auto rows = rows_of(slurp(out / "points_final.csv"), header);
     // The fixed columns, then the material's state variables by name (Hencky: the
     // logarithmic elastic strain, written as exx ... exz).
-    EXPECT_EQ(header, "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz");
+    EXPECT_EQ(header, "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,dissipation");
     ASSERT_EQ(rows.size(), std::string(name) == "column_1d.toml" ? 32u : 64u);
     const int axis = std::string(name) == "column_1d.toml" ? 0 : 1;  // height column: X/x in 1D, Y/y in 2D
     double top = 0, mass = 0;
     for (const auto& r : rows) {
-      ASSERT_EQ(r.size(), 21u);
+      ASSERT_EQ(r.size(), 22u);
       top = std::max(top, r[4 + axis]);
       mass += r[14];
       EXPECT_EQ(r[3], 0.0);                 // Z unused

@@ -225,7 +225,7 @@ TEST(VonMises, ReadFromACaseFileWithItsKeysAndWritesEpsP) {
   run_mpm_case(cf, dir, true);
   const std::string csv = test::slurp(dir / "points_final.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,eps_p");
+            "id,X,Y,Z,x,y,z,sxx,syy,szz,sxy,syz,sxz,volume,mass,exx,eyy,ezz,exy,eyz,exz,eps_p,dissipation");
   std::filesystem::remove_all(dir);
 }
 

@@ -1,7 +1,8 @@
 // Runs an MPM case: reads it (app/MpmCaseReader.cpp), solves it with the gradient step
 // as a post-step stage of the driver, and writes the outputs, each file all or nothing:
 //   points_NNNN.vtu, grid_NNNN.vtu, points.pvd, grid.pvd   every output.vtk_every steps
-//   newton_history.csv, tracked_points.csv, reactions.csv  after every step
+//   newton_history.csv, tracked_points.csv, reactions.csv,
+//   energy.csv (work, elastic energy, dissipation)          after every step
 //   load_displacement.png                                  at the end, with named constraints
 //   points_final.csv, points_gradient.csv                  at the end
 //   column_check.csv, column.png                           with output.check = "column"
@@ -166,6 +167,17 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
       if (!m.rigid_boxes[b].name.empty())
         row(m.rigid_boxes[b].name, F.template segment<dim>(b * dim), info.load_factor * m.rigid_boxes[b].total);
   };
+  // The energy balance: the work of the points' stresses (= the external work, reactions
+  // included, at equilibrium), the elastic energy they store, and what they dissipated.
+  std::string energy = "step,load_factor,work,elastic_energy,dissipation\n";
+  auto balance = [&](int step, double lambda) {
+    double work = 0.0, stored = 0.0;
+    for (int p = 0; p < m.points.size(); ++p) {
+      work += m.points.work[p];
+      stored += m.elastic_energy(p);
+    }
+    fmt::format_to(std::back_inserter(energy), "{},{},{},{},{}\n", step, lambda, work, stored, work - stored);
+  };
   auto track = [&](int step, double lambda) {
     tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
   };
@@ -180,6 +192,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     a.put_text("outputs/newton_history", history);
     a.put_text("outputs/tracked_points", tracked);
     a.put_text("outputs/reactions", reactions);
+    a.put_text("outputs/energy", energy);
     a.put_objects("outputs/block_displacement", block_u);
     put_series(a, "outputs/points_pvd", pvd_points);
     put_series(a, "outputs/grid_pvd", pvd_grid);
@@ -191,6 +204,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     history = a.text("outputs/newton_history");
     tracked = a.text("outputs/tracked_points");
     reactions = a.text("outputs/reactions");
+    energy = a.text("outputs/energy");
     a.get_objects("outputs/block_displacement", static_cast<long long>(block_u.size()), block_u);
     pvd_points = get_series(a, "outputs/points_pvd");
     pvd_grid = get_series(a, "outputs/grid_pvd");
@@ -201,6 +215,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   } else {
     if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
     track(0, 0.0);
+    balance(0, 0.0);
   }
 
   const auto t0 = Clock::now();
@@ -213,6 +228,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
                            info.residuals[k]);
           track(info.step, info.load_factor);
           react(info);
+          balance(info.step, info.load_factor);
           classical_seconds += info.seconds;
           if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
             write_vtk(info.step, info.load_factor, &info);
@@ -220,6 +236,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           out.write_text("newton_history.csv", history);
           if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
           if (reports) out.write_text("reactions.csv", reactions);
+          out.write_text("energy.csv", energy);
           out.commit();
           if (!quiet) print_step<dim>(info);
           if (checkpoints.due(info)) {
@@ -234,7 +251,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
         },
         start);
     const PointColumns<dim> table(m, gradient_step.fields());
-    write_now(dir, "points_final.csv", table.csv(table.with_state(kFinalColumns)).str());
+    std::vector<std::string> final_columns = table.with_state(kFinalColumns);
+    final_columns.push_back("dissipation");  // last: the columns before it keep their places
+    write_now(dir, "points_final.csv", table.csv(final_columns).str());
     if (gradient_step.fields()) write_now(dir, "points_gradient.csv", table.csv(kGradientColumns).str());
     if (gradient_step.enabled() && !quiet)
       fmt::print(

@@ -48,6 +48,10 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
        [&m](int p, double* o) { put(m.elastic_strain(p), o); }});
   add({"volume", Kind::Scalar, {"volume"}, false, [&P](int p, double* o) { *o = P.volume[p]; }});
   add({"mass", Kind::Scalar, {"mass"}, false, [&P](int p, double* o) { *o = P.mass[p]; }});
+  add({"work", Kind::Scalar, {"work"}, false, [&P](int p, double* o) { *o = P.work[p]; }});
+  add({"dissipation", Kind::Scalar, {"dissipation"}, false, [&m](int p, double* o) {
+         *o = m.points.work[p] - m.elastic_energy(p);
+       }});
   add({"material", Kind::Scalar, {"material"}, true, [&P](int p, double* o) { *o = P.material[p]; }});
   if (g) {
     add({"gradient_displacement", Kind::Vector, suffixed("u", "_g", false), false,
@@ -186,7 +190,8 @@ void PointColumns<dim>::append_rows(std::string& out, const std::vector<double>&
 
 template <int dim>
 std::vector<std::string> vtu_point_columns(const PointColumns<dim>& table) {
-  std::vector<std::string> names = {"displacement", "stress", "elastic_strain", "volume", "mass", "material", "id"};
+  std::vector<std::string> names = {"displacement", "stress",      "elastic_strain", "volume", "mass",
+                                    "work",         "dissipation", "material",       "id"};
   if (table.has("gradient_displacement"))
     for (const char* n : {"gradient_displacement", "gradient_strain", "gradient_stress"}) names.push_back(n);
   return table.with_state(names);

@@ -86,6 +86,14 @@ class Material {
   /// gradient step smooths for e-RA and the VTU files' elastic_strain.
   virtual Mat3 elastic_strain(const double* state) const = 0;
 
+  /// The elastic energy per unit volume stored in a state (finite strain: per reference
+  /// volume, Hencky's 1/2 eps_e : D : eps_e). What a point has dissipated is its stress's
+  /// work less this (MaterialPoints::work); a law with other elasticity overrides it.
+  virtual double elastic_energy_density(const double* state) const {
+    const Mat3 e = elastic_strain(state);
+    return 0.5 * elasticity_.lambda * e.trace() * e.trace() + elasticity_.mu * e.squaredNorm();
+  }
+
   /// The isotropic elasticity; the gradient step pairs smoothed strains with stresses by it.
   const IsotropicElasticity& elasticity() const { return elasticity_; }
   double density() const { return density_; }  ///< reference mass density rho_0

@@ -23,4 +23,13 @@ Mat3 increment_gradient(const Stencil<dim>& s, const DofMap& dofs, const Vector&
   return g;
 }
 
+/// The work of a point's stress over a load step by the trapezoid rule on the increment
+/// its material sees, dF = I + g (with F-bar, dFbar): 1/2 (W_n : g + W_n+1 : g dF^-1) with
+/// W the stress times its volume, V_p tau (finite strain: tau : d per reference volume,
+/// d = g dF^-1 at the end of the step, g at its start) or v_n sigma (small strain: g both ends).
+inline double step_work(const Mat3& g, const Mat3& W_start, const Mat3& W_end, bool finite_strain) {
+  const Mat3 g_end = finite_strain ? Mat3(g * (Mat3::Identity() + g).inverse()) : g;
+  return 0.5 * (W_start.cwiseProduct(g).sum() + W_end.cwiseProduct(g_end).sum());
+}
+
 }  // namespace gradmpm::detail

@@ -194,6 +194,15 @@ class LoadStep {
     for (int p = 0; p < pts.size(); ++p) {
       Vec<dim> dx;
       const Mat3 g = increment_gradient(st_[p], dofs_, du, &dx);
+      {  // on the path the material sees (with F-bar dFbar), before x, F, v, stress move
+        const Material& mat = m.material_of(p);  // W_p: the work of its stress (MaterialPoints::work)
+        Mat3 dFm = Mat3::Identity() + g;
+        if (fbar_) dFm.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
+        const double J_n = fbar_ ? pts.fbar_jacobian[p] : pts.volume[p] / pts.original_volume[p];
+        const double w = mat.finite_strain() ? pts.original_volume[p] : pts.volume[p];
+        pts.work[p] += step_work(dFm - Mat3::Identity(), (mat.finite_strain() ? J_n * w : w) * pts.stress[p],
+                                 w * response_[p].stress, mat.finite_strain());
+      }
       pts.position[p] += dx;
       pts.F[p] = (Mat3::Identity() + g) * pts.F[p];
       const double J = pts.F[p].determinant();

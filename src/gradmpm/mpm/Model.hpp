@@ -110,6 +110,20 @@ struct Model {
     material_of(p).initial_state(initial.data());
     return material_of(p).elastic_strain(initial.data());
   }
+  /// The elastic energy stored at point p: its material's density (finite strain: per
+  /// reference volume) on V_p, or on v_p for a small-strain law. The point has dissipated
+  /// its work (MaterialPoints::work) less this.
+  double elastic_energy(int p) const {
+    const Material& mat = material_of(p);
+    std::vector<double> initial;
+    const double* state = points.state_of(p);
+    if (!state_initialised()) {
+      initial.resize(mat.state_size());
+      mat.initial_state(initial.data());
+      state = initial.data();
+    }
+    return mat.elastic_energy_density(state) * (mat.finite_strain() ? points.original_volume[p] : points.volume[p]);
+  }
   std::vector<Mat3> elastic_strains() const {
     std::vector<Mat3> e(points.size());
     for (int p = 0; p < points.size(); ++p) e[p] = elastic_strain(p);

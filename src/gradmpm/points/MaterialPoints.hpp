@@ -27,6 +27,10 @@ struct MaterialPoints {
   std::vector<Vec<dim>> half_length;           ///< GIMP domain half-lengths l_p (current)
   std::vector<Vec<dim>> original_half_length;  ///< l_p0
   std::vector<Vec<dim>> force;                 ///< point load at load factor 1
+  /// W_p: the work the point's stress has done since the start (LoadStep::commit adds each
+  /// step's, by the trapezoid rule). W_p minus the stored elastic energy is what the point
+  /// has dissipated (Model::elastic_energy).
+  std::vector<double> work;
 
   int size() const { return static_cast<int>(position.size()); }
 
@@ -57,6 +61,7 @@ struct MaterialPoints {
     half_length.push_back(lp);
     original_half_length.push_back(lp);
     force.push_back(Vec<dim>::Zero());
+    work.push_back(0.0);
   }
 
  private:
@@ -74,6 +79,7 @@ struct MaterialPoints {
     f("half_length", p.half_length);
     f("original_half_length", p.original_half_length);
     f("force", p.force);
+    f("work", p.work);
   }
 };
 
