@@ -11,6 +11,7 @@
 
 #include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/app/KeysDoc.hpp"
+#include "gradmpm/basis/BasisKind.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/io/CaseFile.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
@@ -71,8 +72,13 @@ TEST(Keys, DefaultsRangesAndMessagesComeFromTheDeclaration) {
     read_string(spline, "basis", basis);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("expected \"mpm\", \"gimp\" (uGIMP) or \"cpgimp\", got \"spline\""),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("expected \"mpm\", \"gimp\" or \"ugimp\" (uGIMP), or \"cpgimp\", got \"spline\""),
+        std::string::npos)
         << e.what();
   }
+  // The name the run's first line prints for uGIMP is a valid value too.
+  CaseFile ugimp = CaseFile::parse("[basis]\ntype = \"ugimp\"\n", "k.toml");
+  EXPECT_EQ(read_string(ugimp, "basis", basis), "ugimp");
+  EXPECT_EQ(to_string(*parse_basis(read_string(ugimp, "basis", basis))), "ugimp");
 }
