@@ -3,11 +3,14 @@
 // a runner that captures the exit code, stdout and stderr.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace gradmpm::test {
 
@@ -18,6 +21,26 @@ inline std::string slurp(const fs::path& p) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// A CSV file's columns by header name (a cell that is not a number reads as NaN).
+inline std::map<std::string, std::vector<double>> csv_columns(const fs::path& file) {
+  std::istringstream in(slurp(file));
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::istringstream h(line); std::getline(h, cell, ',');) names.push_back(cell);
+  std::map<std::string, std::vector<double>> t;
+  while (std::getline(in, line)) {
+    std::istringstream r(line);
+    for (const auto& n : names) {
+      std::getline(r, cell, ',');
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      t[n].push_back(end != cell.c_str() ? v : std::nan(""));
+    }
+  }
+  return t;
 }
 
 struct CliResult {

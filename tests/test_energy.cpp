@@ -29,26 +29,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A CSV file's columns by header name (a column that is not numeric reads as NaN).
 using Table = std::map<std::string, std::vector<double>>;
-Table read_table(const fs::path& file) {
-  std::istringstream in(test::slurp(file));
-  std::string line, cell;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::istringstream h(line); std::getline(h, cell, ',');) names.push_back(cell);
-  Table t;
-  while (std::getline(in, line)) {
-    std::istringstream r(line);
-    for (const auto& n : names) {
-      std::getline(r, cell, ',');
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      t[n].push_back(end != cell.c_str() ? v : std::nan(""));
-    }
-  }
-  return t;
-}
 
 struct RunFiles {
   Table energy, points, reactions;
@@ -59,8 +40,8 @@ RunFiles run_case(const std::string& text, const char* what) {
   fs::remove_all(dir);
   CaseFile cf = CaseFile::parse(text, fmt::format("{}.toml", what));
   run_mpm_case(cf, dir, true);
-  RunFiles r{read_table(dir / "energy.csv"), read_table(dir / "points_final.csv"), {}};
-  if (fs::exists(dir / "reactions.csv")) r.reactions = read_table(dir / "reactions.csv");
+  RunFiles r{test::csv_columns(dir / "energy.csv"), test::csv_columns(dir / "points_final.csv"), {}};
+  if (fs::exists(dir / "reactions.csv")) r.reactions = test::csv_columns(dir / "reactions.csv");
   fs::remove_all(dir);
   return r;
 }

@@ -15,7 +15,6 @@
 
 #include <fmt/format.h>
 #include <cmath>
-#include <sstream>
 
 #include "CliTestUtil.hpp"
 #include "gradmpm/app/MpmCase.hpp"
@@ -28,22 +27,11 @@ namespace {
 
 constexpr double kHalfWidth = 0.5, kCohesion = 10.0, kLength = 0.1;  // B/2, c0, l of the example
 
-/// Column `name` of a CSV file with a header row (non-numeric cells read as NaN).
+/// Column `name` of a CSV file with a header row.
 std::vector<double> column(const fs::path& file, const std::string& name) {
-  std::istringstream in(test::slurp(file));
-  std::string line, cell;
-  std::getline(in, line);
-  int index = -1, k = 0;
-  for (std::istringstream h(line); std::getline(h, cell, ','); ++k)
-    if (cell == name) index = k;
-  EXPECT_GE(index, 0) << file << " has no column " << name;
-  std::vector<double> v;
-  while (std::getline(in, line)) {
-    std::istringstream r(line);
-    for (int i = 0; i <= index; ++i) std::getline(r, cell, ',');
-    v.push_back(std::strtod(cell.c_str(), nullptr));
-  }
-  return v;
+  const auto columns = test::csv_columns(file);
+  EXPECT_TRUE(columns.count(name)) << file << " has no column " << name;
+  return columns.count(name) ? columns.at(name) : std::vector<double>{};
 }
 
 struct Footing {

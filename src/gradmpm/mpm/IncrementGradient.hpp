@@ -1,9 +1,10 @@
 #pragma once
 // The displacement increment of a load step seen from one point: its gradient in the
 // configuration at the start of the step (what the material update and F-bar take) and,
-// on commit, the point's displacement (eq. 2).
+// on commit, the point's displacement (eq. 2) and the work of its stress.
 #include "gradmpm/basis/Stencil.hpp"
 #include "gradmpm/core/Types.hpp"
+#include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/solver/DofMap.hpp"
 
 namespace gradmpm::detail {
@@ -23,13 +24,21 @@ Mat3 increment_gradient(const Stencil<dim>& s, const DofMap& dofs, const Vector&
   return g;
 }
 
-/// The work of a point's stress over a load step by the trapezoid rule on the increment
-/// its material sees, dF = I + g (with F-bar, dFbar): 1/2 (W_n : g + W_n+1 : g dF^-1) with
-/// W the stress times its volume, V_p tau (finite strain: tau : d per reference volume,
-/// d = g dF^-1 at the end of the step, g at its start) or v_n sigma (small strain: g both ends).
-inline double step_work(const Mat3& g, const Mat3& W_start, const Mat3& W_end, bool finite_strain) {
+/// The work of point p's stress over a load step (MaterialPoints::work), by the trapezoid
+/// rule on the increment its material sees, dF = I + g (with F-bar, dFbar):
+/// 1/2 (W_n : g + W_n+1 : g dF^-1), W the stress times its volume: V_p tau (finite strain,
+/// tau : d per reference volume, d = g dF^-1 at the step's end, g at its start; tau_n is
+/// J_n sigma_n, Jbar_n sigma_n with F-bar) or v_n sigma (small strain, g at both ends).
+/// Before the step moves the point; tau_end is the converged iterate's stress.
+template <int dim>
+double step_work(const MaterialPoints<dim>& pts, int p, const Mat3& dF, const Mat3& tau_end, bool finite_strain,
+                 bool fbar) {
+  const Mat3 g = dF - Mat3::Identity();
+  const double w = finite_strain ? pts.original_volume[p] : pts.volume[p];
+  const double J_n = fbar ? pts.fbar_jacobian[p] : pts.volume[p] / pts.original_volume[p];
+  const double w_n = finite_strain ? w * J_n : w;
   const Mat3 g_end = finite_strain ? Mat3(g * (Mat3::Identity() + g).inverse()) : g;
-  return 0.5 * (W_start.cwiseProduct(g).sum() + W_end.cwiseProduct(g_end).sum());
+  return 0.5 * ((w_n * pts.stress[p]).cwiseProduct(g).sum() + (w * tau_end).cwiseProduct(g_end).sum());
 }
 
 }  // namespace gradmpm::detail

@@ -194,15 +194,9 @@ class LoadStep {
     for (int p = 0; p < pts.size(); ++p) {
       Vec<dim> dx;
       const Mat3 g = increment_gradient(st_[p], dofs_, du, &dx);
-      {  // on the path the material sees (with F-bar dFbar), before x, F, v, stress move
-        const Material& mat = m.material_of(p);  // W_p: the work of its stress (MaterialPoints::work)
-        Mat3 dFm = Mat3::Identity() + g;
-        if (fbar_) dFm.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
-        const double J_n = fbar_ ? pts.fbar_jacobian[p] : pts.volume[p] / pts.original_volume[p];
-        const double w = mat.finite_strain() ? pts.original_volume[p] : pts.volume[p];
-        pts.work[p] += step_work(dFm - Mat3::Identity(), (mat.finite_strain() ? J_n * w : w) * pts.stress[p],
-                                 w * response_[p].stress, mat.finite_strain());
-      }
+      const bool finite = m.material_of(p).finite_strain();
+      pts.work[p] +=
+          step_work(pts, p, material_increment(p, Mat3::Identity() + g), response_[p].stress, finite, fbar_ != nullptr);
       pts.position[p] += dx;
       pts.F[p] = (Mat3::Identity() + g) * pts.F[p];
       const double J = pts.F[p].determinant();
@@ -212,7 +206,7 @@ class LoadStep {
         pts.fbar_jacobian[p] *= fbar_dJbar_[p];
         pts.stress[p] = r.stress / pts.fbar_jacobian[p];
       } else {
-        pts.stress[p] = m.material_of(p).finite_strain() ? Mat3(r.stress / J) : r.stress;
+        pts.stress[p] = finite ? Mat3(r.stress / J) : r.stress;
       }
       if (m.basis == BasisKind::CPGIMP)
         for (int d = 0; d < dim; ++d) pts.half_length[p][d] = pts.original_half_length[p][d] * pts.F[p].col(d).norm();
@@ -315,9 +309,7 @@ class LoadStep {
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
-      Mat3 dFbar = fbar_dF_[p];
-      dFbar.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
-      model_.material_of(p).update(dFbar, pts.state_of(p),
+      model_.material_of(p).update(material_increment(p, fbar_dF_[p]), pts.state_of(p),
                                    trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
       const Mat3 inv = fbar_dF_[p].inverse();
       auto& G = grads_[p];
@@ -330,6 +322,12 @@ class LoadStep {
       weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
     }
     scatter_internal_force(du, f_int);
+  }
+
+  /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in the plane.
+  Mat3 material_increment(int p, Mat3 dF) const {
+    if (fbar_) dF.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
+    return dF;
   }
 
   /// A -> A - Q (x) I (the local part of the F-bar tangent); keeps Q_p for the coupling.

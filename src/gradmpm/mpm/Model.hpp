@@ -102,27 +102,26 @@ struct Model {
     return true;
   }
   const Material& material_of(int p) const { return *materials[points.material[p]]; }
-  /// The elastic strain of point p (from its material's state; the initial state before
-  /// the state block is initialised).
-  Mat3 elastic_strain(int p) const {
-    if (state_initialised()) return material_of(p).elastic_strain(points.state_of(p));
+  /// Calls f(state) with point p's state (its material's initial state before the state
+  /// block is initialised).
+  template <class F>
+  auto with_state(int p, F&& f) const {
+    if (state_initialised()) return f(points.state_of(p));
     std::vector<double> initial(material_of(p).state_size());
     material_of(p).initial_state(initial.data());
-    return material_of(p).elastic_strain(initial.data());
+    return f(static_cast<const double*>(initial.data()));
+  }
+  /// The elastic strain of point p (from its material's state).
+  Mat3 elastic_strain(int p) const {
+    return with_state(p, [&](const double* s) { return material_of(p).elastic_strain(s); });
   }
   /// The elastic energy stored at point p: its material's density (finite strain: per
   /// reference volume) on V_p, or on v_p for a small-strain law. The point has dissipated
   /// its work (MaterialPoints::work) less this.
   double elastic_energy(int p) const {
     const Material& mat = material_of(p);
-    std::vector<double> initial;
-    const double* state = points.state_of(p);
-    if (!state_initialised()) {
-      initial.resize(mat.state_size());
-      mat.initial_state(initial.data());
-      state = initial.data();
-    }
-    return mat.elastic_energy_density(state) * (mat.finite_strain() ? points.original_volume[p] : points.volume[p]);
+    const double density = with_state(p, [&](const double* s) { return mat.elastic_energy_density(s); });
+    return density * (mat.finite_strain() ? points.original_volume[p] : points.volume[p]);
   }
   std::vector<Mat3> elastic_strains() const {
     std::vector<Mat3> e(points.size());
