@@ -1,9 +1,11 @@
 // bench_mpm: what one Newton iteration of the implicit MPM costs, phase by phase, as the
 // problem grows (docs/performance.md). Never part of the tests.
 //
-//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME]
+//   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--options S]
 //   (--solver: the case files' linear_solver.type, cholmod by default; with
-//   pcg, factor_s is the incomplete-Cholesky preconditioner and solve_s the CG iterations)
+//   pcg, factor_s is the incomplete-Cholesky preconditioner and solve_s the CG iterations;
+//   with petsc, factor_s is the preconditioner's set-up (GAMG) and solve_s the Krylov
+//   iterations, krylov_its of them per Newton iteration; --options: linear_solver.options)
 //   (--only runs one size of one case, e.g. column_2d:224 or footing_2d:4, for profiling)
 //
 // Cases (built from case-file text, so they are the code paths users run):
@@ -142,18 +144,21 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   const double ratio_g = (pattern + assembly + analysis + update + (gradient_s - gradient_solver_s) / its) /
                          (factor + solve + gradient_solver_s / its);
   const double nonlocal = t.nonlocal / its;
+  const double krylov = t.krylov / its;
   const std::string row =
-      fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f},{:.6f},{}", name, dim,
-                  step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve,
-                  update, gradient_s, peak_mib(), nonlocal, step.staggers);
+      fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f},{:.6f},{},{},{:.1f}", name,
+                  dim, step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve,
+                  update, gradient_s, peak_mib(), nonlocal, step.staggers, newton.linear_solver.type, krylov);
   csv << row << "\n";
   csv.flush();
   fmt::print(
-      "{:<11} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis {:.4f}  "
-      "factor {:.4f}  solve {:.4f}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
+      "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis "
+      "{:.4f}  "
+      "factor {:.4f}  solve {:.4f}{}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
       "with gradient {:.2f}\n",
-      name, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis, factor,
-      solve, update, gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
+      name, newton.linear_solver.type, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern,
+      assembly, analysis, factor, solve, t.krylov > 0 ? fmt::format(" ({:.0f} Krylov its)", krylov) : "", update,
+      gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
   if (step.staggers > 0)
     fmt::print("{:<11} staggers {}  nonlocal {:.4f} per Newton iteration: regularisation adds {:.1f} % to one\n", "",
                step.staggers, nonlocal, 100.0 * nonlocal / (pattern + assembly + analysis + factor + solve + update));
@@ -167,7 +172,7 @@ int main(int argc, char** argv) {
   int threads = omp_get_max_threads();
   std::string csv_path = "bench-results.csv";
   std::string only;  // "case:size"
-  std::string solver = "cholmod";
+  std::string solver = "cholmod", options;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick"))
       quick = true;
@@ -179,12 +184,14 @@ int main(int argc, char** argv) {
       only = argv[++i];
     else if (!std::strcmp(argv[i], "--solver") && i + 1 < argc)
       solver = argv[++i];
+    else if (!std::strcmp(argv[i], "--options") && i + 1 < argc)
+      options = argv[++i];
     else if (!std::strcmp(argv[i], "--step") && i + 1 < argc)
       reported_step = std::max(1, std::atoi(argv[++i]));
     else {
-      fmt::print(
-          stderr,
-          "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--step K]\n");
+      fmt::print(stderr,
+                 "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--options "
+                 "STRING] [--step K]\n");
       return 2;
     }
   }
@@ -195,7 +202,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_"
-         "mib,nonlocal_s,staggers\n";
+         "mib,nonlocal_s,staggers,solver,krylov_its\n";
   fmt::print("bench_mpm: {} thread(s), {} sweep; seconds per Newton iteration\n", threads, quick ? "quick" : "full");
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
@@ -221,21 +228,25 @@ int main(int argc, char** argv) {
     plastic = name == "tresca_2d" ? std::vector<int>{size} : std::vector<int>{};
     biaxial = name == "biaxial_2d" ? std::vector<int>{size} : std::vector<int>{};
   }
-  const std::string solver_key = fmt::format("linear_solver.type=\"{}\"", solver);
-  for (int n : n2) bench<2>("column_2d", CaseFile::parse(column(2, n), "column_2d", {solver_key}), csv, threads);
-  for (int n : n3) bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key}), csv, threads);
+  const std::string solver_key = fmt::format("linear_solver.type=\"{}\"", solver),
+                    options_key = fmt::format("linear_solver.options=\"{}\"", options);
+  for (int n : n2)
+    bench<2>("column_2d", CaseFile::parse(column(2, n), "column_2d", {solver_key, options_key}), csv, threads);
+  for (int n : n3)
+    bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key, options_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";
   for (int r : refine) {
     const double h = 0.125 / r;
-    bench<2>("footing_2d",
-             CaseFile::load(
-                 footing, {fmt::format("grid.origin=[{},{}]", -h, -2 * h), fmt::format("grid.cell_size={}", h),
-                           fmt::format("grid.cells=[{},{}]", 35 * r, 20 * r),
-                           fmt::format("constraints[0].min=[{},{}]", -h, -2 * h),
-                           fmt::format("constraints[1].min=[{},{}]", -h, -2 * h),
-                           fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
-                           fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0", solver_key}),
-             csv, threads);
+    bench<2>(
+        "footing_2d",
+        CaseFile::load(
+            footing,
+            {fmt::format("grid.origin=[{},{}]", -h, -2 * h), fmt::format("grid.cell_size={}", h),
+             fmt::format("grid.cells=[{},{}]", 35 * r, 20 * r), fmt::format("constraints[0].min=[{},{}]", -h, -2 * h),
+             fmt::format("constraints[1].min=[{},{}]", -h, -2 * h),
+             fmt::format("point_loads[0].min=[0.0,{}]", 2.0 - h / 2),
+             fmt::format("point_loads[0].force=[0.0,{}]", -15.0 / r), "output.vtk_every=0", solver_key, options_key}),
+        csv, threads);
   }
   const std::string tresca = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_tresca_2d.toml";
   for (int r : plastic) {
@@ -249,7 +260,7 @@ int main(int argc, char** argv) {
              fmt::format("constraints[0].min=[{},{}]", -h, -h), fmt::format("constraints[0].max=[{},0.0]", 5.0 + h),
              fmt::format("constraints[1].min=[{},{}]", -h, h), fmt::format("constraints[1].max=[0.0,{}]", 5.0 + h),
              fmt::format("constraints[2].min=[5.0,{}]", h), fmt::format("constraints[2].max=[{},{}]", 5.0 + h, 5.0 + h),
-             "output.vtk_every=0", "output.plot=false", solver_key}),
+             "output.vtk_every=0", "output.plot=false", solver_key, options_key}),
         csv, threads);
   }
   const std::string biaxial_case = std::string(GRADMPM_SOURCE_DIR) + "/examples/biaxial_2d.toml";
@@ -261,7 +272,8 @@ int main(int argc, char** argv) {
                                            "load_steps.count=10",
                                            "output.vtk_every=0",
                                            "output.plot=false",
-                                           solver_key};
+                                           solver_key,
+                                           options_key};
     bench<2>("biaxial_2d", CaseFile::load(biaxial_case, refined), csv, threads);
     try {  // one cell of band: Newton may not find the classical step at this size
       CaseFile classical = CaseFile::load(biaxial_case, refined);

@@ -248,7 +248,7 @@ class CountingLu final : public LinearSolver {
 
 TEST(Recipes, ALinearSolverDefinedInATestIsChosenFromTheCaseFile) {
   LinearSolverRegistry::instance().add({"counting-lu", "UMFPACK, counted (test only)", true,
-                                        [](const LinearSolverSettings& s) {
+                                        [](const LinearSolverSettings& s, MatrixKind) {
                                           EXPECT_EQ(s.options, "-toy_option 1");
                                           return std::make_unique<CountingLu>();
                                         },

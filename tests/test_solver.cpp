@@ -190,7 +190,7 @@ class ToyJacobi final : public LinearSolver {
 
 TEST(LinearSolver, ASolverDefinedInATestJoinsTheRegistryWithOneCall) {
   LinearSolverRegistry::instance().add({"toy-jacobi", "Jacobi iterations (test only)", true,
-                                        [](const LinearSolverSettings&) { return std::make_unique<ToyJacobi>(); }});
+                                        [](const LinearSolverSettings&, MatrixKind) { return std::make_unique<ToyJacobi>(); }});
   const SparseMatrix A = tridiagonal(50, -0.5, -0.3);
   const Vector b = Vector::LinSpaced(50, 1.0, 2.0);
   const auto s = make_linear_solver(named("toy-jacobi"), MatrixKind::General);

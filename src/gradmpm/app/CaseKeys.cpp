@@ -40,6 +40,7 @@ const SectionSpec& linear_solver_section() {
           .doc = "solver of the symmetric systems (the tangent when every material's is symmetric, the Helmholtz "
                  "systems): " + types},
          {.name = "general", .type = K::String, .default_value = LinearSolverSettings{}.general,
+          .default_text = "`type` when it solves general matrices, else \"umfpack\"",
           .allowed = "a solver of general matrices, one of " + r.quoted_names(true),
           .doc = "solver of non-symmetric tangents and of a symmetric tangent that `type` finds not positive definite"},
          {.name = "pcg_tolerance", .type = K::Number, .default_value = LinearSolverSettings{}.pcg_tolerance, .min = 0.0, .max = 1.0, .min_open = true,
@@ -48,8 +49,9 @@ const SectionSpec& linear_solver_section() {
           .allowed = "an integer from 0 (scaled to the problem) to 100000000",
           .doc = "iteration limit of \"pcg\"; 0: max(200, 20 sqrt(n)); not converging is a solver failure"},
          {.name = "options", .type = K::String, .default_value = LinearSolverSettings{}.options,
-          .allowed = "no options for a solver that takes none",
-          .doc = "options passed to solvers that take them (none of the built-in ones does)"}}};
+          .allowed = "no options for a solver that takes none; for \"petsc\", options PETSc uses",
+          .doc = "options passed to solvers that take them: \"petsc\" gives them to PETSc's options database for its "
+                 "KSP and PC, e.g. \"-ksp_type cg -pc_type hypre\" (docs/performance.md)"}}};
   }();
   return s;
 }

@@ -76,12 +76,13 @@ template <int dim>
 void print_step(const StepInfo& info) {
   std::string res;
   for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
-  fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}{}  residuals{}{}  ({:.2f} s)\n", info.step,
+  fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}{}  residuals{}{}{}  ({:.2f} s)\n", info.step,
              info.load_factor, info.phases.iterations, info.cuts,
              info.staggers ? fmt::format("  staggers {}", info.staggers) : "", res,
              info.indefinite_solves
                  ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves)
                  : "",
+             info.backtracks ? fmt::format("  [{} halved correction(s): a point inverted]", info.backtracks) : "",
              info.seconds);
   for (const std::string& why : info.cut_reasons) fmt::print("             cut: {}\n", why);
   std::fflush(stdout);

@@ -148,6 +148,7 @@ struct PhaseTimes {
   double update = 0;    ///< mapping the increment to the points, updating their state
   double nonlocal = 0;  ///< regularised plasticity: the Helmholtz operator and the kappa_bar solves
   int iterations = 0;   ///< Newton iterations (linear solves)
+  long krylov = 0;      ///< Krylov iterations of those solves (an iterative linear solver; 0 for a direct one)
   PhaseTimes& operator+=(const PhaseTimes& o) {
     pattern += o.pattern;
     assembly += o.assembly;
@@ -157,6 +158,7 @@ struct PhaseTimes {
     update += o.update;
     nonlocal += o.nonlocal;
     iterations += o.iterations;
+    krylov += o.krylov;
     return *this;
   }
 };
@@ -186,8 +188,9 @@ struct StepInfo {
   int staggers = 0;                      ///< staggered iterations of kappa_bar (regularised plasticity; 0 without)
   int indefinite_solves =
       0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
-  bool last = false;  ///< the step that reaches load factor 1
-  DriverState after;  ///< the driver's state after this step (what a checkpoint of it records)
+  int backtracks = 0;  ///< halvings of Newton corrections that inverted a point (the converged attempt)
+  bool last = false;   ///< the step that reaches load factor 1
+  DriverState after;   ///< the driver's state after this step (what a checkpoint of it records)
   /// Grid fields of the step, computed only when called (outputs ask for them on the
   /// steps they write); valid during the post-step stages and the observer call only.
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -26,6 +27,24 @@ struct StepSolvers {
   std::unique_ptr<LinearSolver> main, general;  ///< general: made when a tangent is not positive definite
   bool analysed = false;
 };
+
+/// Inexact Newton (Eisenstat & Walker 1996, choice 2, with their safeguard): an
+/// iterative linear solver reduces the residual only as far as Newton's progress
+/// warrants, eta_k = 0.9 (r_k / r_k-1)^2, at most 1e-2; and never below a tenth of what
+/// the Newton tolerance asks of this iterate (no oversolving), so the last iterations keep
+/// the quadratic rate to the tolerance. A direct solver ignores it.
+double forcing_term(const std::vector<double>& residuals, double newton_tolerance, double previous) {
+  constexpr double eta_max = 1e-2, gamma = 0.9;
+  const std::size_t k = residuals.size() - 1;
+  double eta = eta_max;
+  if (k > 0 && residuals[k - 1] > 0.0) {
+    const double ratio = residuals[k] / residuals[k - 1];
+    eta = gamma * ratio * ratio;
+    if (gamma * previous * previous > 0.1) eta = std::max(eta, gamma * previous * previous);
+  }
+  eta = std::max(eta, 0.1 * newton_tolerance / std::max(residuals[k], 1e-300));
+  return std::clamp(eta, 1e-14, eta_max);
+}
 
 /// Newton-Raphson for one load step; returns the converged increment or throws
 /// StepFailure. `start`: a converged increment of the same step to start from (a later
@@ -52,14 +71,35 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
   Vector f_int;
   SparseMatrix K;
   const double floor = step.roundoff_force();
+  double eta = 1e-2;       // the forcing term of an iterative solver (forcing_term)
+  Vector correction_free;  // the free part of the last Newton correction (backtracking halves it)
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
-    step.internal_force(du, f_int);
+    // Backtracking to admissibility: a Newton correction that inverts a point (det dF <=
+    // 0) is halved, on the free dofs only (the prescribed increments stay as they are),
+    // up to kHalvings times before the step fails. Far from the solution (the first
+    // iterates of a step that starts a mechanism) the full correction can overshoot by
+    // far more than the increment itself; the step need not be cut for that.
+    constexpr int kHalvings = 8;
+    Vector r;
+    double err = 0.0;
+    for (int halving = 0;; ++halving) {
+      try {
+        step.internal_force(du, f_int);
+      } catch (const StepFailure&) {
+        if (it == 0 || halving == kHalvings) throw;
+        correction_free *= 0.5;
+        du -= correction_free;
+        ++info.backtracks;
+        continue;
+      }
+      r = step.f_ext() - f_int;
+      const double scale = std::max(step.f_ext().norm(), f_int.norm());
+      for (int c : step.constrained()) r[c] = 0.0;
+      err = scale > 0.0 ? r.norm() / scale : 0.0;
+      break;
+    }
     times.assembly += seconds_since(t0);
-    Vector r = step.f_ext() - f_int;
-    const double scale = std::max(step.f_ext().norm(), f_int.norm());
-    for (int c : step.constrained()) r[c] = 0.0;
-    double err = scale > 0.0 ? r.norm() / scale : 0.0;
     if (it == 0 && !applied) {  // the prescribed increments are not applied yet: that is out of balance too
       double pending = 0.0;
       for (double v : step.increments()) pending = std::max(pending, std::abs(v));
@@ -83,7 +123,15 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
     bc.apply_to_matrix(K, step.constrained());
-    bc.apply_to_rhs(r, it == 0 && !applied ? step.increments() : zeros);
+    const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
+    bc.apply_to_rhs(r, prescribed);
+    const auto correction = [&](const Vector& d) {
+      Vector exact = d;
+      bc.impose(exact, prescribed);
+      correction_free = exact;
+      for (int c : step.constrained()) correction_free[c] = 0.0;
+      return exact;
+    };
     try {
       if (!solvers.analysed) {  // the pattern is fixed within the load step
         t0 = Clock::now();
@@ -91,13 +139,19 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
         times.analysis += seconds_since(t0);
         solvers.analysed = true;
       }
+      if (solver->iterative()) {
+        eta = forcing_term(residuals, settings.tolerance, eta);
+        solver->set_relative_tolerance(eta);
+      }
       try {
         t0 = Clock::now();
         solver->factorize(K);
         times.factor += seconds_since(t0);
         t0 = Clock::now();
-        du += solver->solve(r);
+        const long krylov = solver->iterations();
+        du += correction(solver->solve(r));
         times.solve += seconds_since(t0);
+        times.krylov += solver->iterations() - krylov;
       } catch (const SolverError&) {
         // Not positive definite at this iterate (a distorted trial state, or a genuine
         // instability): the symmetric indefinite system still has a Newton step.
@@ -105,7 +159,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
         t0 = Clock::now();
         if (!general) general = make_linear_solver(settings.linear_solver, MatrixKind::General);
         general->compute(K);
-        du += general->solve(r);
+        du += correction(general->solve(r));
         times.factor += seconds_since(t0);
         ++info.indefinite_solves;
       }
@@ -170,6 +224,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       info.phases = PhaseTimes{};
       info.staggers = 0;
       info.indefinite_solves = 0;
+      info.backtracks = 0;
       try {
         auto t0 = Clock::now();
         try {

@@ -18,6 +18,13 @@ class DirichletElimination {
   /// Lifts b for the prescribed `values` (same order as the dofs given above).
   void apply_to_rhs(Vector& b, const std::vector<double>& values) const;
 
+  /// x_c = g_c exactly: a Krylov solver meets the constrained equations only to its
+  /// tolerance, and an error left there would never be corrected (the residual skips
+  /// the constrained dofs), so a solution is made exact on them.
+  void impose(Vector& x, const std::vector<double>& values) const {
+    for (std::size_t k = 0; k < dofs_.size(); ++k) x[dofs_[k]] = values[k];
+  }
+
   const std::vector<int>& dofs() const { return dofs_; }
 
  private:

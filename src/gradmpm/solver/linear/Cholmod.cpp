@@ -1,5 +1,6 @@
 // CHOLMOD (SuiteSparse) supernodal Cholesky: the default solver of symmetric positive
 // definite systems. Reads the lower triangle.
+#include <dlfcn.h>
 #include <omp.h>
 #include <Eigen/CholmodSupport>
 
@@ -15,9 +16,26 @@ namespace {
 /// oversubscribes them: a 1e5-dof 2D factorisation took 1.13 s instead of 0.75 s
 /// (docs/performance.md). With dynamic adjustment on, libgomp caps every team at the
 /// caller's thread setting and the idle processors, so it is switched on around CHOLMOD.
+///
+/// The BLAS under CHOLMOD is whichever libblas.so.3 the system's alternatives give
+/// (OpenBLAS once scripts/install-deps has run). OpenBLAS's pthread build keeps its own
+/// pool of one thread per core, beside gradmpm's OpenMP team: it is told the caller's
+/// thread count (--threads, OMP_NUM_THREADS) around every CHOLMOD call, so that the two
+/// never run more threads than asked. (OpenBLAS's OpenMP build would share the team, but
+/// it hangs when dynamic adjustment gives its parallel regions fewer threads than it
+/// planned: seen here, in dsyrk.) Found at run time: the reference BLAS has no such call.
+void set_blas_threads(int n) {
+  using SetThreads = void (*)(int);
+  static const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set) set(n);
+}
+
 class CholmodThreadCap {
  public:
-  CholmodThreadCap() : previous_(omp_get_dynamic()) { omp_set_dynamic(1); }
+  CholmodThreadCap() : previous_(omp_get_dynamic()) {
+    set_blas_threads(omp_get_max_threads());
+    omp_set_dynamic(1);
+  }
   ~CholmodThreadCap() { omp_set_dynamic(previous_); }
   CholmodThreadCap(const CholmodThreadCap&) = delete;
   CholmodThreadCap& operator=(const CholmodThreadCap&) = delete;
@@ -45,7 +63,9 @@ struct CholmodTraits {
 
 LinearSolverInfo cholmod_solver_info() {
   return {CholmodTraits::name, "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite)", false,
-          [](const LinearSolverSettings&) { return std::make_unique<EigenSolver<Decomposition, CholmodTraits>>(); }};
+          [](const LinearSolverSettings&, MatrixKind) {
+            return std::make_unique<EigenSolver<Decomposition, CholmodTraits>>();
+          }};
 }
 
 }  // namespace gradmpm

@@ -23,7 +23,7 @@ struct LdltTraits {
 
 LinearSolverInfo eigen_ldlt_solver_info() {
   return {LdltTraits::name, "Eigen SimplicialLDLT (symmetric positive definite)", false,
-          [](const LinearSolverSettings&) { return std::make_unique<EigenSolver<Ldlt, LdltTraits>>(); }};
+          [](const LinearSolverSettings&, MatrixKind) { return std::make_unique<EigenSolver<Ldlt, LdltTraits>>(); }};
 }
 
 }  // namespace gradmpm

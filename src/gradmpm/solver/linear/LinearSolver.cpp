@@ -56,7 +56,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
       throw SolverError(fmt::format("no general (non-symmetric) linear solver named \"{}\" (registered: {})",
                                     settings.general, registry.quoted_names(true)));
   }
-  return info->make(settings);
+  return info->make(settings, kind);
 }
 
 }  // namespace gradmpm

@@ -39,6 +39,13 @@ class LinearSolver {
   /// Called before analyze() by callers that know more about the system (the Newton
   /// driver: block size dim and the active nodes' coordinates). Default: ignored.
   virtual void describe(const SystemDescription&) {}
+  /// true: solves only to a tolerance (Krylov); the Newton driver then sets it per
+  /// iteration (inexact Newton, set_relative_tolerance).
+  virtual bool iterative() const { return false; }
+  /// The relative residual the next solves must reach. Default: ignored (direct solvers).
+  virtual void set_relative_tolerance(double) {}
+  /// Krylov iterations so far, over all solves (0 for direct solvers).
+  virtual long iterations() const { return 0; }
 
   /// Symbolic analysis (ordering, elimination tree). Call again only if the pattern changes.
   void analyze(const SparseMatrix& A);
@@ -76,10 +83,14 @@ struct LinearSolverInfo {
   std::string name;
   std::string doc;
   bool general = false;
-  std::function<std::unique_ptr<LinearSolver>(const LinearSolverSettings&)> make;
+  /// Makes one for matrices of `kind` (a general solver may choose its method by it).
+  std::function<std::unique_ptr<LinearSolver>(const LinearSolverSettings&, MatrixKind)> make;
   /// Whether it reads LinearSolverSettings::options (e.g. a PETSc options string); the
   /// case reader refuses options for a solver that would ignore them.
   bool takes_options = false;
+  /// For one that takes options: "" when settings.options are good, else what is
+  /// expected (the case reader's message, exit 2). Empty function: not checked.
+  std::function<std::string(const LinearSolverSettings&)> check_options;
 };
 
 class LinearSolverRegistry : public Registry<LinearSolverRegistry, LinearSolverInfo, &LinearSolverInfo::name> {

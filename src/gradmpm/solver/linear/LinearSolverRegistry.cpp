@@ -8,6 +8,9 @@ LinearSolverInfo eigen_ldlt_solver_info();
 LinearSolverInfo pcg_solver_info();
 LinearSolverInfo umfpack_solver_info();   // SparseLu.cpp
 LinearSolverInfo eigen_lu_solver_info();  // SparseLu.cpp
+#ifdef GRADMPM_WITH_PETSC
+LinearSolverInfo petsc_solver_info();
+#endif
 
 void register_builtins(LinearSolverRegistry& registry) {
   registry.add(cholmod_solver_info());
@@ -15,6 +18,9 @@ void register_builtins(LinearSolverRegistry& registry) {
   registry.add(pcg_solver_info());
   registry.add(umfpack_solver_info());
   registry.add(eigen_lu_solver_info());
+#ifdef GRADMPM_WITH_PETSC
+  registry.add(petsc_solver_info());
+#endif
 }
 
 }  // namespace gradmpm

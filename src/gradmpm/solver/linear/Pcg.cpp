@@ -60,7 +60,7 @@ LinearSolverInfo pcg_solver_info() {
   return {"pcg",
           "conjugate gradients with an incomplete-Cholesky preconditioner (symmetric positive definite; relative "
           "residual linear_solver.pcg_tolerance within pcg_max_iterations)",
-          false, [](const LinearSolverSettings& s) { return std::make_unique<Pcg>(s); }};
+          false, [](const LinearSolverSettings& s, MatrixKind) { return std::make_unique<Pcg>(s); }};
 }
 
 }  // namespace gradmpm

@@ -28,7 +28,7 @@ struct SparseLuTraits : LuTraits<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrde
 template <class Lu, class Traits>
 LinearSolverInfo lu_info(const char* doc) {
   return {Traits::name, doc, true,
-          [](const LinearSolverSettings&) { return std::make_unique<EigenSolver<Lu, Traits>>(); }};
+          [](const LinearSolverSettings&, MatrixKind) { return std::make_unique<EigenSolver<Lu, Traits>>(); }};
 }
 }  // namespace
 
