@@ -19,8 +19,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "CaseTextUtil.hpp"
 #include "CliTestUtil.hpp"
 #include "MpmTestUtil.hpp"
+#include "SolverTestUtil.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
@@ -38,26 +40,7 @@ LinearSolverSettings petsc(const std::string& options = "") {
   return s;
 }
 
-/// 2D five-point Laplacian plus a shift; `skew` adds a non-symmetric convection term.
-SparseMatrix laplacian(int m, double skew = 0.0) {
-  std::vector<Eigen::Triplet<double>> t;
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) {
-      const int k = i * m + j;
-      t.emplace_back(k, k, 4.0 + 1e-3);
-      if (i + 1 < m) {
-        t.emplace_back(k, k + m, -1.0 + skew);
-        t.emplace_back(k + m, k, -1.0 - skew);
-      }
-      if (j + 1 < m) {
-        t.emplace_back(k, k + 1, -1.0);
-        t.emplace_back(k + 1, k, -1.0);
-      }
-    }
-  SparseMatrix A(m * m, m * m);
-  A.setFromTriplets(t.begin(), t.end());
-  return A;
-}
+using test::laplacian_2d;
 
 /// Points' positions and stresses of two runs: the largest difference of each, relative
 /// to the largest displacement and the largest stress component.
@@ -150,7 +133,7 @@ TEST(Petsc, IsRegisteredAndSolvesGeneralMatrices) {
 }
 
 TEST(Petsc, DefaultKrylovSolversGiveTheDirectSolutions) {  // P1
-  const SparseMatrix A = laplacian(40);
+  const SparseMatrix A = laplacian_2d(40);
   const Vector b = Vector::LinSpaced(A.rows(), -1.0, 2.0);
   const auto chol = make_linear_solver({}), cg = make_linear_solver(petsc());
   EXPECT_FALSE(cg->general());  // CG: the symmetric systems
@@ -166,7 +149,7 @@ TEST(Petsc, DefaultKrylovSolversGiveTheDirectSolutions) {  // P1
   cg->factorize(A2);
   EXPECT_LT((cg->solve(b) - 0.5 * x).norm(), 1e-8 * x.norm());
 
-  const SparseMatrix N = laplacian(40, 0.3);
+  const SparseMatrix N = laplacian_2d(40, 0.3);
   LinearSolverSettings lu;
   lu.type = "umfpack";
   const auto umf = make_linear_solver(lu, MatrixKind::General),
@@ -180,7 +163,7 @@ TEST(Petsc, DefaultKrylovSolversGiveTheDirectSolutions) {  // P1
 }
 
 TEST(Petsc, AKrylovFailureSaysHowFarItGot) {  // P2
-  const SparseMatrix A = laplacian(40);
+  const SparseMatrix A = laplacian_2d(40);
   const auto s = make_linear_solver(petsc("-ksp_max_it 2 -ksp_rtol 1e-14 -pc_type jacobi"));
   s->compute(A);
   try {
@@ -265,44 +248,7 @@ TEST(Petsc, MpmRunsGiveCholmodsAnswer) {  // P4
 
 TEST(Petsc, GradientStepUsesItAndGivesCholmodsFields) {  // P5
   // The bi-material plate of test_mpm_gradient_2d, e-RA at the end and u-RA (Dirichlet nodes).
-  const std::string plate = R"(
-[grid]
-origin = [-0.03125, -0.03125]
-cell_size = 0.03125
-cells = [34, 10]
-[materials.soft]
-model = "linear-elastic"
-young = 1000.0
-[materials.stiff]
-model = "linear-elastic"
-young = 5000.0
-[[bodies]]
-material = "soft"
-min = [0.0, 0.0]
-max = [0.5, 0.25]
-[[bodies]]
-material = "stiff"
-min = [0.5, 0.0]
-max = [1.0, 0.25]
-[[constraints]]
-min = [-0.03125, -0.03125]
-max = [0.0, 1.0]
-fix = ["x"]
-[[constraints]]
-min = [-0.03125, -0.03125]
-max = [2.0, 0.0]
-fix = ["y"]
-[[constraints]]
-min = [1.0, -0.03125]
-max = [2.0, 1.0]
-fix = ["x"]
-displacement = [0.001, 0.0]
-[load_steps]
-count = 1
-[gradient]
-length_scale = 0.1
-apply = "end"
-)";
+  const std::string plate = test::bimaterial_plate(1.0 / 32, 0.1);
   for (const char* variant : {"e-RA", "u-RA"}) {
     std::vector<EnrichedFields<2>> fields;
     for (const bool use_petsc : {false, true}) {

@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include "SolverTestUtil.hpp"
 #include "gradmpm/basis/LinearBasis.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/points/Generate.hpp"
@@ -189,8 +190,9 @@ class ToyJacobi final : public LinearSolver {
 }  // namespace
 
 TEST(LinearSolver, ASolverDefinedInATestJoinsTheRegistryWithOneCall) {
-  LinearSolverRegistry::instance().add({"toy-jacobi", "Jacobi iterations (test only)", true,
-                                        [](const LinearSolverSettings&, MatrixKind) { return std::make_unique<ToyJacobi>(); }});
+  LinearSolverRegistry::instance().add(
+      {"toy-jacobi", "Jacobi iterations (test only)", true,
+       [](const LinearSolverSettings&, MatrixKind) { return std::make_unique<ToyJacobi>(); }});
   const SparseMatrix A = tridiagonal(50, -0.5, -0.3);
   const Vector b = Vector::LinSpaced(50, 1.0, 2.0);
   const auto s = make_linear_solver(named("toy-jacobi"), MatrixKind::General);
@@ -204,23 +206,8 @@ TEST(LinearSolver, ASolverDefinedInATestJoinsTheRegistryWithOneCall) {
 
 TEST(LinearSolver, PreconditionedCgSolvesAndReportsFailure) {  // 2D five-point Laplacian (+ a small shift): incomplete
                                                                // Cholesky is not exact here.
-  const int m = 30, n = m * m;
-  std::vector<Eigen::Triplet<double>> t;
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) {
-      const int k = i * m + j;
-      t.emplace_back(k, k, 4.0 + 1e-3);
-      if (i + 1 < m) {
-        t.emplace_back(k, k + m, -1.0);
-        t.emplace_back(k + m, k, -1.0);
-      }
-      if (j + 1 < m) {
-        t.emplace_back(k, k + 1, -1.0);
-        t.emplace_back(k + 1, k, -1.0);
-      }
-    }
-  SparseMatrix A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
+  const SparseMatrix A = test::laplacian_2d(30);
+  const int n = static_cast<int>(A.rows());
   const Vector b = Vector::LinSpaced(n, -1.0, 1.0);
   const auto chol = make_linear_solver(named("cholmod")), pcg = make_linear_solver(named("pcg"));
   chol->compute(A);
