@@ -152,10 +152,9 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   csv << row << "\n";
   csv.flush();
   fmt::print(
-      "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  analysis "
-      "{:.4f}  "
-      "factor {:.4f}  solve {:.4f}{}  update {:.4f}  gradient {:.4f} (solver {:.4f})  peak {:.0f} MiB  ratio {:.2f}  "
-      "with gradient {:.2f}\n",
+      "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  "
+      "analysis {:.4f}  factor {:.4f}  solve {:.4f}{}  update {:.4f}  gradient {:.4f} (solver {:.4f})  "
+      "peak {:.0f} MiB  ratio {:.2f}  with gradient {:.2f}\n",
       name, newton.linear_solver.type, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern,
       assembly, analysis, factor, solve, t.krylov > 0 ? fmt::format(" ({:.0f} Krylov its)", krylov) : "", update,
       gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);

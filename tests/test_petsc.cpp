@@ -56,6 +56,15 @@ std::pair<double, double> difference(const Model<dim>& a, const Model<dim>& b) {
   return {dx / u, ds / s};
 }
 
+/// PETSc's run `b` gives CHOLMOD's run `a`: positions and stresses to 1e-8 relative.
+template <int dim>
+void expect_same_answer(const char* what, const Model<dim>& a, const Model<dim>& b) {
+  const auto [dx, ds] = difference(a, b);
+  std::printf("%s: petsc - cholmod: positions %.2e, stresses %.2e\n", what, dx, ds);
+  EXPECT_LT(dx, 1e-8) << what;
+  EXPECT_LT(ds, 1e-8) << what;
+}
+
 template <int dim>
 struct Outcome {
   Model<dim> model;
@@ -186,9 +195,7 @@ TEST(Petsc, OptionsChooseAnyKspAndPcAndBadOnesAreRefusedWithTheKey) {  // P3
     sets.push_back(kPetsc);
     sets.push_back(fmt::format("linear_solver.options=\"{}\"", options));
     const Outcome<2> r = run<2>(CaseFile::parse(text, "column_2d.toml", sets));
-    const auto [dx, ds] = difference(ref.model, r.model);
-    EXPECT_LT(dx, 1e-8) << options;
-    EXPECT_LT(ds, 1e-8) << options;
+    expect_same_answer(options, ref.model, r.model);
   }
   const auto refused = [&](const std::string& options) {
     return test::read_error<2>(
@@ -215,19 +222,13 @@ TEST(Petsc, MpmRunsGiveCholmodsAnswer) {  // P4
   {  // 2D: the strip footing (uGIMP, 10 of its 40 load steps)
     const Outcome<2> a = run<2>(CaseFile::load(example("footing_2d.toml"), tight), 10);
     const Outcome<2> b = run<2>(CaseFile::load(example("footing_2d.toml"), with_petsc(tight)), 10);
-    const auto [dx, ds] = difference(a.model, b.model);
-    std::printf("footing_2d: petsc - cholmod: positions %.2e, stresses %.2e\n", dx, ds);
-    EXPECT_LT(dx, 1e-8);
-    EXPECT_LT(ds, 1e-8);
+    expect_same_answer("footing_2d", a.model, b.model);
   }
   {  // 3D: a block under self-weight, block size 3 and the six rigid-body modes
     const std::string text = block_3d(6);
     const Outcome<3> a = run<3>(CaseFile::parse(text, "block_3d.toml", tight));
     const Outcome<3> b = run<3>(CaseFile::parse(text, "block_3d.toml", with_petsc(tight)));
-    const auto [dx, ds] = difference(a.model, b.model);
-    std::printf("block_3d: petsc - cholmod: positions %.2e, stresses %.2e\n", dx, ds);
-    EXPECT_LT(dx, 1e-8);
-    EXPECT_LT(ds, 1e-8);
+    expect_same_answer("block_3d", a.model, b.model);
     // At the default tolerance the inexact Newton needs no more iterations.
     const Outcome<3> exact = run<3>(CaseFile::parse(text, "block_3d.toml", {}));
     const Outcome<3> inexact = run<3>(CaseFile::parse(text, "block_3d.toml", {kPetsc}));
@@ -236,10 +237,7 @@ TEST(Petsc, MpmRunsGiveCholmodsAnswer) {  // P4
   {  // elasto-plastic: the Tresca footing, plastic under the footing
     const Outcome<2> a = run<2>(CaseFile::load(example("footing_tresca_2d.toml"), tight), 8);
     const Outcome<2> b = run<2>(CaseFile::load(example("footing_tresca_2d.toml"), with_petsc(tight)), 8);
-    const auto [dx, ds] = difference(a.model, b.model);
-    std::printf("footing_tresca_2d: petsc - cholmod: positions %.2e, stresses %.2e\n", dx, ds);
-    EXPECT_LT(dx, 1e-8);
-    EXPECT_LT(ds, 1e-8);
+    expect_same_answer("footing_tresca_2d", a.model, b.model);
     const Outcome<2> exact = run<2>(CaseFile::load(example("footing_tresca_2d.toml"), {}), 8);
     const Outcome<2> inexact = run<2>(CaseFile::load(example("footing_tresca_2d.toml"), {kPetsc}), 8);
     EXPECT_LE(inexact.summary.total_iterations, exact.summary.total_iterations);

@@ -21,21 +21,23 @@ LinearSolverSettings read_linear_solver_settings(const CaseFile& cf) {
   const SectionSpec& sec = linear_solver_section();
   LinearSolverSettings s;
   s.type = read_string(cf, sec.name, sec.key("type"));
-  cf.require(registry.find(s.type) != nullptr, "linear_solver.type", sec.key("type").expected());
+  const LinearSolverInfo* type = registry.find(s.type);
+  cf.require(type != nullptr, "linear_solver.type", sec.key("type").expected());
   // A solver of general matrices solves the case's non-symmetric ones too, unless the
   // case names another ("petsc" then serves every system).
   KeySpec general_key = sec.key("general");
-  if (registry.find(s.type)->general) general_key.default_value = s.type;
+  if (type->general) general_key.default_value = s.type;
   s.general = read_string(cf, sec.name, general_key);
   const auto* general = registry.find(s.general);
   cf.require(general && general->general, "linear_solver.general", sec.key("general").expected());
   s.pcg_tolerance = read_number(cf, sec.name, sec.key("pcg_tolerance"));
   s.pcg_max_iterations = static_cast<int>(read_integer(cf, sec.name, sec.key("pcg_max_iterations")));
   s.options = read_string(cf, sec.name, sec.key("options"));
-  cf.require(s.options.empty() || registry.find(s.type)->takes_options, "linear_solver.options",
+  cf.require(s.options.empty() || type->takes_options, "linear_solver.options",
              fmt::format("no options: \"{}\" takes none", s.type));
-  if (const auto& check = registry.find(s.type)->check_options; !s.options.empty() && check)
-    if (const std::string expected = check(s); !expected.empty()) cf.require(false, "linear_solver.options", expected);
+  if (!s.options.empty() && type->check_options)
+    if (const std::string expected = type->check_options(s); !expected.empty())
+      cf.require(false, "linear_solver.options", expected);
   return s;
 }
 

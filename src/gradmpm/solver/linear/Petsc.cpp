@@ -53,30 +53,27 @@ void check(PetscErrorCode code, const char* what) {
                                 specific && *specific ? ": " : "", specific ? specific : ""));
 }
 
-/// The option names of a PETSc options string ("-ksp_type cg -pc_type gamg" -> ksp_type,
-/// pc_type): a word starting with '-' and a letter; values (numbers included) are not.
-std::vector<std::string> option_names(const std::string& options) {
-  std::vector<std::string> names;
-  std::istringstream words(options);
-  for (std::string w; words >> w;)
-    if (w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1]))) names.push_back(w.substr(1));
-  return names;
+/// An option name of a PETSc options string: a word starting with '-' and a letter
+/// ("-ksp_type"); values ("cg", "-1e-3") are not.
+bool is_option_name(const std::string& word) {
+  return word.size() > 1 && word[0] == '-' && std::isalpha(static_cast<unsigned char>(word[1]));
 }
 
 class Petsc final : public LinearSolver {
  public:
-  Petsc(const LinearSolverSettings& s, MatrixKind kind)
-      : kind_(kind), user_rtol_(s.options.find("-ksp_rtol") != std::string::npos) {
+  Petsc(const LinearSolverSettings& s, MatrixKind kind) : kind_(kind) {
     PetscRuntime::ensure();
     static std::atomic<int> count{0};
     prefix_ = fmt::format("gradmpm{}_", count++);
-    for (const std::string& name : option_names(s.options)) names_.push_back({name, "-" + prefix_ + name});
     // The user's string with every option name prefixed: values stay as written.
     std::string prefixed;
     std::istringstream words(s.options);
     for (std::string w; words >> w;) {
-      if (w.size() > 1 && w[0] == '-' && std::isalpha(static_cast<unsigned char>(w[1])))
-        w = "-" + prefix_ + w.substr(1);
+      if (is_option_name(w)) {
+        names_.push_back({w.substr(1), "-" + prefix_ + w.substr(1)});
+        user_rtol_ = user_rtol_ || names_.back().user == "ksp_rtol";
+        w = names_.back().prefixed;
+      }
       prefixed += w + " ";
     }
     check(PetscOptionsInsertString(nullptr, prefixed.c_str()), "reading linear_solver.options");
@@ -233,7 +230,7 @@ class Petsc final : public LinearSolver {
   }
 
   MatrixKind kind_;
-  bool user_rtol_;  ///< -ksp_rtol given: the options decide, not the Newton driver
+  bool user_rtol_ = false;  ///< -ksp_rtol given: the options decide, not the Newton driver
   std::string prefix_;
   struct OptionName {
     std::string user, prefixed;  ///< "ksp_type", "-gradmpm3_ksp_type"
