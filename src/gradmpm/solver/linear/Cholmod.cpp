@@ -11,37 +11,46 @@ namespace gradmpm {
 namespace {
 
 /// CHOLMOD 3 (SuiteSparse 5, as Debian 12 ships it) runs parts of its supernodal
-/// factorisation on a fixed team of 4 OpenMP threads (CHOLMOD_OMP_NUM_THREADS), however
-/// many cores the machine has and whatever the caller asked for. On 2 cores that
-/// oversubscribes them: a 1e5-dof 2D factorisation took 1.13 s instead of 0.75 s
-/// (docs/performance.md). With dynamic adjustment on, libgomp caps every team at the
-/// caller's thread setting and the idle processors, so it is switched on around CHOLMOD.
+/// factorisation on a fixed team of 4 OpenMP threads (CHOLMOD_OMP_NUM_THREADS, a
+/// num_threads clause that omp_set_num_threads cannot lower), however many cores the
+/// machine has, while the BLAS under it (libblas.so.3 from the system's alternatives:
+/// OpenBLAS once scripts/install-deps has run) does the dense work of the supernodes.
 ///
-/// The BLAS under CHOLMOD is whichever libblas.so.3 the system's alternatives give
-/// (OpenBLAS once scripts/install-deps has run). OpenBLAS's pthread build keeps its own
-/// pool of one thread per core, beside gradmpm's OpenMP team: it is told the caller's
-/// thread count (--threads, OMP_NUM_THREADS) around every CHOLMOD call, so that the two
-/// never run more threads than asked. (OpenBLAS's OpenMP build would share the team, but
-/// it hangs when dynamic adjustment gives its parallel regions fewer threads than it
-/// planned: seen here, in dsyrk.) Found at run time: the reference BLAS has no such call.
-void set_blas_threads(int n) {
+/// With OpenBLAS (found at run time: the reference BLAS has no openblas_set_num_threads)
+/// the BLAS gets the caller's thread count (--threads, OMP_NUM_THREADS) and CHOLMOD's own
+/// parallel regions run serially (max-active-levels 0): its team and OpenBLAS's pthread
+/// pool together oversubscribed the 2 cores. Measured at 2 threads, per factorisation
+/// (docs/performance.md): 1e5-dof 2D 0.56-0.93 s -> 0.23-0.33 s, 4.7e4-dof 3D 6.4 -> 2.5 s;
+/// one BLAS thread under CHOLMOD's team instead gave 0.26-0.31 and 4.0 s.
+/// (OpenBLAS's OpenMP build would share gradmpm's team, but it hung in dsyrk when the
+/// runtime gave its regions fewer threads than planned: not used.)
+/// With the reference BLAS, CHOLMOD's team is what runs in parallel: dynamic adjustment
+/// caps it at the caller's thread setting and the idle processors (1e5-dof 2D: 1.13 ->
+/// 0.75 s against the fixed 4).
+bool set_blas_threads(int n) {
   using SetThreads = void (*)(int);
   static const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
   if (set) set(n);
+  return set != nullptr;
 }
 
 class CholmodThreadCap {
  public:
-  CholmodThreadCap() : previous_(omp_get_dynamic()) {
-    set_blas_threads(omp_get_max_threads());
-    omp_set_dynamic(1);
+  CholmodThreadCap() : dynamic_(omp_get_dynamic()), levels_(omp_get_max_active_levels()) {
+    if (set_blas_threads(omp_get_max_threads()))
+      omp_set_max_active_levels(0);
+    else
+      omp_set_dynamic(1);
   }
-  ~CholmodThreadCap() { omp_set_dynamic(previous_); }
+  ~CholmodThreadCap() {
+    omp_set_dynamic(dynamic_);
+    omp_set_max_active_levels(levels_);
+  }
   CholmodThreadCap(const CholmodThreadCap&) = delete;
   CholmodThreadCap& operator=(const CholmodThreadCap&) = delete;
 
  private:
-  int previous_;
+  int dynamic_, levels_;
 };
 
 using Decomposition = Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>;
