@@ -144,18 +144,21 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   const double ratio_g = (pattern + assembly + analysis + update + (gradient_s - gradient_solver_s) / its) /
                          (factor + solve + gradient_solver_s / its);
   const double nonlocal = t.nonlocal / its;
+  // The solver of the tangent: a non-symmetric one (F-bar, non-associated flow) goes to
+  // linear_solver.general.
+  const std::string& solver = m.symmetric_tangent() ? newton.linear_solver.type : newton.linear_solver.general;
   const double krylov = t.krylov / its;
   const std::string row =
       fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f},{:.6f},{},{},{:.1f}", name,
                   dim, step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve,
-                  update, gradient_s, peak_mib(), nonlocal, step.staggers, newton.linear_solver.type, krylov);
+                  update, gradient_s, peak_mib(), nonlocal, step.staggers, solver, krylov);
   csv << row << "\n";
   csv.flush();
   fmt::print(
       "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  "
       "analysis {:.4f}  factor {:.4f}  solve {:.4f}{}  update {:.4f}  gradient {:.4f} (solver {:.4f})  "
       "peak {:.0f} MiB  ratio {:.2f}  with gradient {:.2f}\n",
-      name, newton.linear_solver.type, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern,
+      name, solver, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern,
       assembly, analysis, factor, solve, t.krylov > 0 ? fmt::format(" ({:.0f} Krylov its)", krylov) : "", update,
       gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
   if (step.staggers > 0)
@@ -273,8 +276,14 @@ int main(int argc, char** argv) {
                                            "output.plot=false",
                                            solver_key,
                                            options_key};
-    bench<2>("biaxial_2d", CaseFile::load(biaxial_case, refined), csv, threads);
-    try {  // one cell of band: Newton may not find the classical step at this size
+    // Past the peak Newton may not find a step (one cell of band, classical; or at the
+    // finest grid): said, and the next run is measured.
+    try {
+      bench<2>("biaxial_2d", CaseFile::load(biaxial_case, refined), csv, threads);
+    } catch (const std::exception& e) {
+      fmt::print("biaxial_2d r = {}: {}\n", r, e.what());
+    }
+    try {
       CaseFile classical = CaseFile::load(biaxial_case, refined);
       classical.remove_section("regularisation");
       bench<2>("biaxial_2d_classical", std::move(classical), csv, threads);
