@@ -158,9 +158,9 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
       "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  "
       "analysis {:.4f}  factor {:.4f}  solve {:.4f}{}  update {:.4f}  gradient {:.4f} (solver {:.4f})  "
       "peak {:.0f} MiB  ratio {:.2f}  with gradient {:.2f}\n",
-      name, solver, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern,
-      assembly, analysis, factor, solve, t.krylov > 0 ? fmt::format(" ({:.0f} Krylov its)", krylov) : "", update,
-      gradient_s, gradient_solver_s, peak_mib(), ratio, ratio_g);
+      name, solver, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis,
+      factor, solve, t.krylov > 0 ? fmt::format(" ({:.0f} Krylov its)", krylov) : "", update, gradient_s,
+      gradient_solver_s, peak_mib(), ratio, ratio_g);
   if (step.staggers > 0)
     fmt::print("{:<11} staggers {}  nonlocal {:.4f} per Newton iteration: regularisation adds {:.1f} % to one\n", "",
                step.staggers, nonlocal, 100.0 * nonlocal / (pattern + assembly + analysis + factor + solve + update));

@@ -4,8 +4,11 @@
 // what it claims to: the SPD ones agree and refuse an indefinite matrix, the general ones
 // solve a non-symmetric system without symmetrising it, a symmetric-only choice hands
 // non-symmetric matrices to linear_solver.general, and a solver defined only in this
-// test joins the registry with one call (recipe "add a linear solver").
+// test joins the registry with one call (recipe "add a linear solver"), and CHOLMOD
+// leaves the caller's OpenMP settings as they were.
 #include <gtest/gtest.h>
+
+#include <omp.h>
 
 #include <Eigen/Dense>
 
@@ -236,4 +239,32 @@ TEST(LinearSolver, IndefiniteMatrixIsReportedBySpdSolvers) {
     const auto s = make_linear_solver(named(name));
     EXPECT_THROW(s->compute(A), SolverError) << name;
   }
+}
+
+// CHOLMOD runs its own OpenMP regions serially under OpenBLAS (or with dynamic adjustment
+// under the reference BLAS) only for the duration of each call: the caller's settings,
+// and so the threads of gradmpm's own point loops, are as they were afterwards.
+TEST(LinearSolver, CholmodLeavesTheCallersOpenMpSettingsAsTheyWere) {
+  const int threads = omp_get_max_threads(), dynamic = omp_get_dynamic(), levels = omp_get_max_active_levels();
+  omp_set_num_threads(2);
+  omp_set_dynamic(0);
+  omp_set_max_active_levels(3);
+  const SparseMatrix A = test::laplacian_2d(40);
+  const Vector b = Vector::Ones(A.rows());
+  const auto s = make_linear_solver(named("cholmod"));
+  s->compute(A);
+  const Vector x = s->solve(b);
+  EXPECT_LT((A * x - b).norm(), 1e-12 * b.norm());
+  EXPECT_EQ(omp_get_dynamic(), 0);
+  EXPECT_EQ(omp_get_max_active_levels(), 3);
+  int team = 0;
+#pragma omp parallel
+  {
+#pragma omp single
+    team = omp_get_num_threads();
+  }
+  EXPECT_EQ(team, 2) << "a parallel region after CHOLMOD gets the threads asked for";
+  omp_set_num_threads(threads);
+  omp_set_dynamic(dynamic);
+  omp_set_max_active_levels(levels);
 }
