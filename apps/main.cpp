@@ -4,7 +4,8 @@
 //   gradmpm keys [bar|bar-mpm|mpm]      the case-file keys as markdown tables
 //
 // Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input (case file,
-// key, value, command line, or an output path that cannot be written).
+// key, value, command line, or an output path that cannot be written; or `run` started
+// as several MPI ranks, which is not supported yet).
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -15,6 +16,7 @@
 #include <exception>
 
 #include "gradmpm/app/KeysDoc.hpp"
+#include "gradmpm/app/MpiLaunch.hpp"
 #include "gradmpm/app/RunCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 
@@ -80,6 +82,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr, "gradmpm: error: {}\nRun 'gradmpm --help' for usage.\n", e.what());
     return 2;
+  }
+
+  if (run->parsed()) {
+    // Not distributed yet (issue 14): every rank would run the whole case into the same
+    // folder. One message (rank 0's), the same exit code on every rank.
+    if (const gradmpm::MpiLaunch mpi = gradmpm::mpi_launch_from_environment(); mpi.size > 1) {
+      if (mpi.rank == 0)
+        fmt::print(stderr,
+                   "gradmpm: error: started as {} MPI ranks, but gradmpm does not run distributed yet: run it "
+                   "without mpirun (one process uses every core, --threads N)\n",
+                   mpi.size);
+      return 2;
+    }
   }
 
   try {
