@@ -20,8 +20,8 @@ namespace {
 /// the BLAS gets the caller's thread count (--threads, OMP_NUM_THREADS) and CHOLMOD's own
 /// parallel regions run serially (max-active-levels 0): its team and OpenBLAS's pthread
 /// pool together oversubscribed the 2 cores. Measured at 2 threads, per factorisation
-/// (docs/performance.md): 1e5-dof 2D 0.56-0.93 s -> 0.23-0.33 s, 4.7e4-dof 3D 6.4 -> 2.5 s;
-/// one BLAS thread under CHOLMOD's team instead gave 0.26-0.31 and 4.0 s.
+/// (docs/performance.md): 1e5-dof 2D 0.56-0.93 s -> 0.23-0.32 s, 1e6-dof 2D 12.6 -> 4.7 s;
+/// one BLAS thread under CHOLMOD's team instead gave 0.26-0.31 s at 1e5 dof.
 /// (OpenBLAS's OpenMP build would share gradmpm's team, but it hung in dsyrk when the
 /// runtime gave its regions fewer threads than planned: not used.)
 /// With the reference BLAS, CHOLMOD's team is what runs in parallel: dynamic adjustment
