@@ -101,7 +101,7 @@ BarResult solve_bar(const BarConfig& c) {
   assembler.add_matrix(K, [&](int p, const Stencil<1>& s, Assembler<1>::LocalMatrix& Ke) {
     const double w = r.point_young[p] * r.points.volume[p];
     for (int a = 0; a < s.count; ++a)
-      for (int b = 0; b < s.count; ++b) Ke(a, b) = w * s.dN[a][0] * s.dN[b][0];
+      for (int b = 0; b < s.count; ++b) Ke(a, b) += w * s.dN[a][0] * s.dN[b][0];
   });
   const std::vector<int> ends = {dofs.dof(0, 0), dofs.dof(grid.num_nodes() - 1, 0)};
   const std::vector<double> end_values = {0.0, c.end_displacement};

@@ -1,6 +1,7 @@
 #include "gradmpm/materials/Spectral.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <array>
 #include <cmath>
 
 namespace gradmpm {
@@ -10,13 +11,43 @@ constexpr int at(int i, int j) { return 3 * i + j; }
 static_assert(MaterialResponse::cache_capacity >= 12);
 }  // namespace
 
+void symmetric_eigen(const Mat3& m, Eigen::Vector3d& values, Mat3& vectors) {
+  if (m(2, 0) != 0.0 || m(2, 1) != 0.0) {
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(m);
+    values = eig.eigenvalues();
+    vectors = eig.eigenvectors();
+    return;
+  }
+  // One Jacobi rotation J = [c s; -s c] diagonalises the block [a b; b d]: J^T B J =
+  // diag(a - t b, d + t b), t = tan of the smaller rotation angle (Golub & Van Loan,
+  // sym.schur2), accurate to round-off however close the eigenvalues are.
+  const double a = m(0, 0), b = m(1, 0), d = m(1, 1);
+  double t = 0.0;
+  if (b != 0.0) {
+    const double tau = (d - a) / (2.0 * b);
+    t = (tau >= 0.0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1.0 + tau * tau));
+  }
+  const double c = 1.0 / std::sqrt(1.0 + t * t), s = t * c;
+  const std::array<double, 3> value{a - t * b, d + t * b, m(2, 2)};
+  const std::array<Eigen::Vector3d, 3> vector{Eigen::Vector3d(c, -s, 0.0), Eigen::Vector3d(s, c, 0.0),
+                                              Eigen::Vector3d(0.0, 0.0, 1.0)};
+  std::array<int, 3> order{0, 1, 2};  // ascending, as Eigen's solver (MohrCoulomb relies on it)
+  if (value[order[1]] < value[order[0]]) std::swap(order[0], order[1]);
+  if (value[order[2]] < value[order[1]]) std::swap(order[1], order[2]);
+  if (value[order[1]] < value[order[0]]) std::swap(order[0], order[1]);
+  for (int k = 0; k < 3; ++k) {
+    values[k] = value[order[k]];
+    vectors.col(k) = vector[order[k]];
+  }
+}
+
 ElasticTrial elastic_trial(const Mat3& dF, const Mat3& eps_n) {
-  Eigen::SelfAdjointEigenSolver<Mat3> eps_eig(eps_n);
-  const Mat3 be_n = eps_eig.eigenvectors() * (2.0 * eps_eig.eigenvalues()).array().exp().matrix().asDiagonal() *
-                    eps_eig.eigenvectors().transpose();
-  const Mat3 be = dF * be_n * dF.transpose();
-  Eigen::SelfAdjointEigenSolver<Mat3> eig(be);
-  return {eig.eigenvalues(), eig.eigenvectors()};
+  Eigen::Vector3d eps_values, l;
+  Mat3 eps_vectors, n;
+  symmetric_eigen(eps_n, eps_values, eps_vectors);
+  const Mat3 be_n = eps_vectors * (2.0 * eps_values).array().exp().matrix().asDiagonal() * eps_vectors.transpose();
+  symmetric_eigen(dF * be_n * dF.transpose(), l, n);
+  return {l, n};
 }
 
 double log_divided_difference(double a, double b) {

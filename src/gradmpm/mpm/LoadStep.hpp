@@ -154,34 +154,41 @@ class LoadStep {
 
   /// The tangent K at the state of the last internal_force(): each point's material
   /// tangent is formed inside the (coloured, threaded) scatter-add and never stored.
+  /// With a symmetric tangent (A_ijkl = A_klij) only the blocks b <= a of a point are
+  /// formed and the assembler mirrors them: half the products, the largest part of the
+  /// assembly (docs/performance.md).
   void stiffness(SparseMatrix& K) {
     K = pattern_;
     if (fbar_) fbar_q_.resize(model_.points.size());
-    assembler_.add_matrix(K, [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
-      // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
-      const auto& G = grads_[p];
-      Mat9 A;
-      model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
-      if (fbar_) fbar_local_tangent(p, A);
-      const double w = weights_[p];
-      for (int b = 0; b < s.count; ++b) {
-        double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
-        for (int i = 0; i < dim; ++i)
-          for (int j = 0; j < dim; ++j)
-            for (int k = 0; k < dim; ++k) {
-              double v = 0.0;
-              for (int l = 0; l < dim; ++l) v += A(3 * i + j, 3 * k + l) * G[b][l];
-              H[i][j][k] = w * v;
-            }
-        for (int a = 0; a < s.count; ++a)
-          for (int i = 0; i < dim; ++i)
-            for (int k = 0; k < dim; ++k) {
-              double v = 0.0;
-              for (int j = 0; j < dim; ++j) v += G[a][j] * H[i][j][k];
-              Ke(a * dim + i, b * dim + k) = v;
-            }
-      }
-    });
+    const bool symmetric = model_.symmetric_tangent();
+    assembler_.add_matrix(
+        K,
+        [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
+          // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
+          const auto& G = grads_[p];
+          Mat9 A;
+          model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
+          if (fbar_) fbar_local_tangent(p, A);
+          const double w = weights_[p];
+          for (int b = 0; b < s.count; ++b) {
+            double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
+            for (int i = 0; i < dim; ++i)
+              for (int j = 0; j < dim; ++j)
+                for (int k = 0; k < dim; ++k) {
+                  double v = 0.0;
+                  for (int l = 0; l < dim; ++l) v += A(3 * i + j, 3 * k + l) * G[b][l];
+                  H[i][j][k] = w * v;
+                }
+            for (int a = symmetric ? b : 0; a < s.count; ++a)
+              for (int i = 0; i < dim; ++i)
+                for (int k = 0; k < dim; ++k) {
+                  double v = 0.0;
+                  for (int j = 0; j < dim; ++j) v += G[a][j] * H[i][j][k];
+                  Ke(a * dim + i, b * dim + k) += v;
+                }
+          }
+        },
+        symmetric);
     if (fbar_) add_fbar_coupling(K);
     if (ghost_) ghost_->add_matrix(dofs_, K);
     if (contact_) contact_->add_matrix(K);
