@@ -135,6 +135,9 @@ struct NewtonSettings {
   double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
   int max_iterations = 25;
   int max_cuts = 6;  ///< halvings of a failing load increment before giving up
+  /// A direct solver keeps its symbolic analysis for the next load step when that step's
+  /// pattern is the same (the answer is the same to the bit; off only to test that).
+  bool reuse_analysis = true;
   LinearSolverSettings linear_solver;
 };
 
@@ -148,6 +151,7 @@ struct PhaseTimes {
   double update = 0;    ///< mapping the increment to the points, updating their state
   double nonlocal = 0;  ///< regularised plasticity: the Helmholtz operator and the kappa_bar solves
   int iterations = 0;   ///< Newton iterations (linear solves)
+  int analyses = 0;     ///< symbolic analyses (0 in a step whose pattern the previous step had)
   long krylov = 0;      ///< Krylov iterations of those solves (an iterative linear solver; 0 for a direct one)
   PhaseTimes& operator+=(const PhaseTimes& o) {
     pattern += o.pattern;
@@ -158,6 +162,7 @@ struct PhaseTimes {
     update += o.update;
     nonlocal += o.nonlocal;
     iterations += o.iterations;
+    analyses += o.analyses;
     krylov += o.krylov;
     return *this;
   }

@@ -21,11 +21,31 @@ namespace {
 using detail::LoadStep;
 using detail::StepFailure;
 
-/// The linear solvers of one load step attempt: the pattern is fixed within the step, so
-/// the symbolic analysis is done once, however many Newton solves the step takes.
+/// The linear solvers of the run. The pattern is fixed within a load step, so the symbolic
+/// analysis is done once, however many Newton solves the step takes; and a direct solver
+/// keeps it for the next step when that step's pattern is the same (points that stay in
+/// their cells' supports: most steps of a small-strain run). The analysis depends on the
+/// pattern only, so the answer is the same to the bit.
 struct StepSolvers {
   std::unique_ptr<LinearSolver> main, general;  ///< general: made when a tangent is not positive definite
-  bool analysed = false;
+  bool analysed = false;                        ///< for this step's pattern
+  bool described = false;                       ///< describe() called with this step
+  std::vector<int> outer, inner;                ///< the pattern main's analysis was made for
+
+  /// A new load step (or a new attempt of one).
+  void start_step() { analysed = described = false; }
+  /// After a failed attempt nothing is kept: the factor may be in any state.
+  void forget() { *this = StepSolvers{}; }
+  bool analysed_for(const SparseMatrix& A) const {
+    return !main->iterative() && static_cast<std::size_t>(A.outerSize()) + 1 == outer.size() &&
+           static_cast<std::size_t>(A.nonZeros()) == inner.size() &&
+           std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
+  }
+  void remember_pattern(const SparseMatrix& A) {
+    outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+    inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+  }
 };
 
 /// Inexact Newton (Eisenstat & Walker 1996, choice 2, with their safeguard): an
@@ -64,7 +84,10 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     // A non-symmetric tangent goes to a general solver as it is: never symmetrised.
     const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
     solvers.main = make_linear_solver(settings.linear_solver, kind);
+  }
+  if (!solvers.described) {
     solvers.main->describe({dim, [&] { return step.node_coordinates(); }});
+    solvers.described = true;
   }
   LinearSolver* solver = solvers.main.get();
   auto& general = solvers.general;
@@ -142,7 +165,11 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     try {
       if (!solvers.analysed) {  // the pattern is fixed within the load step
         t0 = Clock::now();
-        solver->analyze(K);
+        if (!solvers.analysed_for(K)) {
+          solver->analyze(K);
+          if (settings.reuse_analysis) solvers.remember_pattern(K);
+          ++times.analyses;
+        }
         times.analysis += seconds_since(t0);
         solvers.analysed = true;
       }
@@ -182,8 +209,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
 /// kappa_bar = (M + l^2 L)^-1 M kappa of the converged iterate (Anderson-accelerated),
 /// written into the state the step starts from, until kappa_bar stops changing.
 template <int dim>
-Vector solve_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& settings, StepInfo& info) {
-  StepSolvers solvers;
+Vector solve_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& settings, StepInfo& info,
+                  StepSolvers& solvers) {
+  solvers.start_step();
   if (!NonlocalPlasticStrain<dim>::applies(model)) return newton(step, settings, solvers, info);
   const auto t0 = Clock::now();
   NonlocalPlasticStrain<dim> nonlocal(model, step.stencils(), settings.linear_solver);
@@ -216,6 +244,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   if (!model.state_initialised()) model.initialise_state();
   const double nominal = 1.0 / settings.load_steps;
   double lambda = start.load_factor, dlambda = start.next_increment > 0.0 ? start.next_increment : nominal;
+  StepSolvers solvers;  // across the steps: an unchanged pattern keeps its analysis
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
@@ -242,13 +271,14 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
         info.phases.pattern = seconds_since(t0);
         info.dofs = step->dofs().num_dofs();
         info.nonzeros = step->pattern().nonZeros();
-        du = solve_step(*step, model, settings, info);
+        du = solve_step(*step, model, settings, info, solvers);
         t0 = Clock::now();
         step->commit(model, du);
         info.phases.update = seconds_since(t0);
         step->release_newton_data();
         break;
       } catch (const StepFailure& f) {
+        solvers.forget();
         if (info.cuts == settings.max_cuts)
           throw SolverError(
               fmt::format("load step {} failed from load factor {:.6g} with increment {:.3g} after {} cut(s): {}",
