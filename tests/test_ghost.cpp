@@ -6,9 +6,12 @@
 //     linear displacement field (it is consistent), and faces between occupied cells are
 //     never penalised;
 //  R3 it cures the singular F-bar tangent of the Tresca footing: at h = B/8 the F-bar run
-//     that stopped at s/B = 0.0125 (a point inverted) runs on, and q/c stays within 5 % of
-//     Prandtl's 2 + pi from s/B = 0.02 to 0.03; before any active cell is empty the answers
-//     equal those without the penalty.
+//     without it stops (a point inverts) or gets through only by cutting steps, with it
+//     every step converges uncut and q/c stays within 5 % of Prandtl's 2 + pi from
+//     s/B = 0.02 to 0.03; before any active cell is empty the answers equal those without
+//     the penalty. (Which of the two the run without it does depends on round-off: it
+//     stopped at s/B = 0.0125 until the assembly's summation order changed, issue 13,
+//     and then ran on with one cut and a jagged q/c, 5.08, 5.08, 5.13, 5.24, 5.11, ...)
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -138,22 +141,34 @@ TEST(GhostPenalty, SymmetricPositiveAndZeroOnLinearFields3D) { check_consistent_
 TEST(GhostPenalty, CuresTheFBarFootingOnTheFinerGrid) {
   // examples/footing_tresca_2d.toml (h = B/8) with F-bar, pushed to s/B = 0.03 in 12 steps.
   const std::string file = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_tresca_2d.toml";
-  auto run = [&](double alpha, std::vector<double>& q) {
+  auto run = [&](double alpha, std::vector<double>& q, int& cuts) {
     CaseFile cf = CaseFile::load(file, {"mpm.fbar=true", fmt::format("mpm.ghost_penalty={}", alpha),
                                         "load_steps.count=12", "constraints[3].displacement=[0.0,-0.06]"});
     MpmCase<2> c = read_mpm_case<2>(cf);
     const auto& footing = c.model.node_sets[1].nodes;
-    run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo& info) {
-      const Vector R = info.grid_reaction();
-      double ry = 0.0;
-      for (int node : footing) ry += R[node * 2 + 1];
-      q.push_back(std::abs(ry) / 1.0 / 10.0);  // q / c, B/2 = 1, c = 10
-    });
+    cuts = 0;
+    try {
+      run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo& info) {
+        const Vector R = info.grid_reaction();
+        double ry = 0.0;
+        for (int node : footing) ry += R[node * 2 + 1];
+        q.push_back(std::abs(ry) / 1.0 / 10.0);  // q / c, B/2 = 1, c = 10
+        cuts += info.cuts;
+      });
+    } catch (const SolverError&) {
+      return false;
+    }
+    return true;
   };
   std::vector<double> plain, ghost;
-  EXPECT_THROW(run(0.0, plain), SolverError) << "without the penalty the F-bar run stops";
-  std::cout << "without the penalty: " << plain.size() << " steps\n";
-  run(1e-3, ghost);
+  int plain_cuts = 0, ghost_cuts = 0;
+  const bool plain_ran = run(0.0, plain, plain_cuts);
+  std::cout << "without the penalty: " << (plain_ran ? "ran on" : "stopped") << " after " << plain.size() << " steps, "
+            << plain_cuts << " cut(s)\n";
+  for (double v : plain) std::cout << "  q/c " << v << "\n";
+  EXPECT_TRUE(!plain_ran || plain_cuts > 0) << "without the penalty the F-bar run stops or cuts steps";
+  ASSERT_TRUE(run(1e-3, ghost, ghost_cuts));
+  EXPECT_EQ(ghost_cuts, 0);
   ASSERT_EQ(ghost.size(), 12u);
   for (std::size_t k = 0; k < ghost.size(); ++k) std::cout << "s/B " << 0.0025 * (k + 1) << " q/c " << ghost[k] << "\n";
   for (std::size_t k = 7; k < 12; ++k) EXPECT_NEAR(ghost[k], 2.0 + M_PI, 0.05 * (2.0 + M_PI)) << "step " << k + 1;

@@ -56,18 +56,21 @@ double log_divided_difference(double a, double b) {
   return std::log1p(r) / (a * r);
 }
 
-void spectral_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, double iso, const Mat3& D,
-                      const Eigen::Vector3d& spin, int dim, Mat9& A) {
-  // Nine rank-one terms instead of dense 9x9 products (docs/performance.md).
+namespace {
+/// The rank-one terms of the spectral tangent, A = iso I(x)I + U W^T, restricted to the R
+/// rows `row` of the 9 (all of them in 3D, the in-plane ones, 3i + j with i, j < dim, in
+/// 2D and 1D: the rest of A is not used there), so U and W are R x 9.
+template <int R>
+void spectral_terms(const ElasticTrial& trial, const Eigen::Vector3d& tau, const Mat3& D, const Eigen::Vector3d& spin,
+                    const std::array<int, R>& row, Eigen::Matrix<double, R, 9>& U, Eigen::Matrix<double, R, 9>& W) {
   const Eigen::Vector3d& lam = trial.stretch2;
   const Mat3& n = trial.directions;
-  auto P = [&](int a, int b) {  // vec(n_a (x) n_b), index 3i + j
-    Eigen::Matrix<double, 9, 1> v;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) v[at(i, j)] = n(i, a) * n(j, b);
+  using Column = Eigen::Matrix<double, R, 1>;
+  auto P = [&](int a, int b) {  // the rows of vec(n_a (x) n_b), index 3i + j
+    Column v;
+    for (int r = 0; r < R; ++r) v[r] = n(row[r] / 3, a) * n(row[r] % 3, b);
     return v;
   };
-  Mat9 U, W;  // A = iso I(x)I + U W^T, column t of U and W one rank-one term
   for (int a = 0; a < 3; ++a) U.col(a) = P(a, a);
   for (int a = 0; a < 3; ++a) {
     W.col(a) = (D(a, 0) - (a == 0 ? tau[a] : 0.0)) * U.col(0);
@@ -78,20 +81,37 @@ void spectral_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, dou
     for (int b = a + 1; b < 3; ++b, t += 2) {
       const double c = spin[a + b - 1];  // (0,1) -> 0, (0,2) -> 1, (1,2) -> 2
       const double e = c * lam[a] - tau[a];
-      const auto pab = P(a, b), pba = P(b, a);
+      const Column pab = P(a, b), pba = P(b, a);
       U.col(t) = pab;
       W.col(t) = c * lam[b] * pab + e * pba;
       U.col(t + 1) = pba;
       W.col(t + 1) = c * lam[a] * pba + e * pab;
     }
+}
+
+template <int R>
+void restricted_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, const Mat3& D,
+                        const Eigen::Vector3d& spin, const std::array<int, R>& row, Mat9& A) {
+  Eigen::Matrix<double, R, 9> U, W;
+  spectral_terms<R>(trial, tau, D, spin, row, U, W);
+  const Eigen::Matrix<double, R, R> block = U * W.transpose();
+  A.setZero();
+  for (int p = 0; p < R; ++p)
+    for (int q = 0; q < R; ++q) A(row[p], row[q]) = block(p, q);
+}
+}  // namespace
+
+void spectral_tangent(const ElasticTrial& trial, const Eigen::Vector3d& tau, double iso, const Mat3& D,
+                      const Eigen::Vector3d& spin, int dim, Mat9& A) {
+  // Nine rank-one terms instead of dense 9x9 products (docs/performance.md).
   if (dim == 3) {
+    Eigen::Matrix<double, 9, 9> U, W;
+    spectral_terms<9>(trial, tau, D, spin, {0, 1, 2, 3, 4, 5, 6, 7, 8}, U, W);
     A.noalias() = U.lazyProduct(W.transpose());
-  } else {  // the in-plane block only: dim^4 of the 81 entries
-    A.setZero();
-    for (int i = 0; i < dim; ++i)
-      for (int j = 0; j < dim; ++j)
-        for (int k = 0; k < dim; ++k)
-          for (int l = 0; l < dim; ++l) A(at(i, j), at(k, l)) = U.row(at(i, j)).dot(W.row(at(k, l)));
+  } else if (dim == 2) {
+    restricted_tangent<4>(trial, tau, D, spin, {at(0, 0), at(0, 1), at(1, 0), at(1, 1)}, A);
+  } else {
+    restricted_tangent<1>(trial, tau, D, spin, {at(0, 0)}, A);
   }
   for (int i = 0; i < dim; ++i)
     for (int k = 0; k < dim; ++k) A(at(i, i), at(k, k)) += iso;

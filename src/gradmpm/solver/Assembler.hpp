@@ -38,12 +38,12 @@ class Assembler {
   /// whatever the thread count, so results are identical bit for bit.
   template <class F>
   void for_each_point_disjoint(F&& f) const {
-    if (colours_.empty()) {
+    if (!coloured_) {
       for (int p = 0; p < points_.size(); ++p) f(p);
       return;
     }
-    for_each_bucket([&](const std::vector<int>& bucket) {
-      for (int p : bucket) f(p);
+    for_each_bucket([&](const int* first, const int* last) {
+      for (const int* p = first; p != last; ++p) f(*p);
     });
   }
 
@@ -59,13 +59,13 @@ class Assembler {
         p = q;
       }
     };
-    if (colours_.empty()) {
+    if (!coloured_) {
       std::vector<int> all(points_.size());
       for (int p = 0; p < points_.size(); ++p) all[p] = p;
       runs(all.data(), all.data() + all.size());
       return;
     }
-    for_each_bucket([&](const std::vector<int>& bucket) { runs(bucket.data(), bucket.data() + bucket.size()); });
+    for_each_bucket(runs);
   }
 
   /// A += sum_p K_p, where kernel(p, stencil, Ke) adds the local matrix of point p into Ke
@@ -204,10 +204,14 @@ class Assembler {
   }
 
  private:
+  /// Buckets and colours as flat arrays: the points of bucket b are
+  /// order_[bucket_start_[b] .. bucket_start_[b + 1]), the buckets of colour c are
+  /// colour_start_[c] .. colour_start_[c + 1]) (one allocation each, not one per bucket).
   void colour(const Grid<dim>& grid) {
-    std::vector<int> bucket_of(grid.num_nodes(), -1);  // anchor node -> bucket in its colour
-    colours_.assign(ipow(3, dim), {});
-    for (int p = 0; p < points_.size(); ++p) {
+    const int np = points_.size(), colours = ipow(3, dim);
+    std::vector<int> anchor_of(np), colour_of(np);
+#pragma omp parallel for schedule(static) if (use_threads(np))
+    for (int p = 0; p < np; ++p) {
       typename Grid<dim>::Index anchor;
       anchor.fill(std::numeric_limits<int>::max());
       for (int a = 0; a < st_[p].count; ++a) {
@@ -216,41 +220,57 @@ class Assembler {
       }
       int c = 0;
       for (int d = dim - 1; d >= 0; --d) c = 3 * c + anchor[d] % 3;
-      int& b = bucket_of[grid.node_index(anchor)];
-      if (b < 0) {
-        b = static_cast<int>(colours_[c].size());
-        colours_[c].emplace_back();
-      }
-      colours_[c][b].push_back(p);
+      anchor_of[p] = grid.node_index(anchor);
+      colour_of[p] = c;
     }
+    // Buckets numbered per colour in the order their first point comes.
+    std::vector<int> bucket_of(grid.num_nodes(), -1), in_colour(colours, 0), local(np);
+    for (int p = 0; p < np; ++p) {
+      int& b = bucket_of[anchor_of[p]];
+      if (b < 0) b = in_colour[colour_of[p]]++;
+      local[p] = b;
+    }
+    colour_start_.assign(colours + 1, 0);
+    for (int c = 0; c < colours; ++c) colour_start_[c + 1] = colour_start_[c] + in_colour[c];
+    const int nb = colour_start_[colours];
+    bucket_start_.assign(nb + 1, 0);
+    for (int p = 0; p < np; ++p) ++bucket_start_[colour_start_[colour_of[p]] + local[p] + 1];
+    for (int b = 0; b < nb; ++b) bucket_start_[b + 1] += bucket_start_[b];
+    order_.resize(np);
+    std::vector<int> next(bucket_start_.begin(), bucket_start_.end() - 1);
+    for (int p = 0; p < np; ++p) order_[next[colour_start_[colour_of[p]] + local[p]]++] = p;
     // Within a bucket, the points of one stencil together (for_each_run), in index order.
     auto before = [&](int p, int q) {
       const Stencil<dim>&s = st_[p], &t = st_[q];
       return std::lexicographical_compare(s.node.begin(), s.node.begin() + s.count, t.node.begin(),
                                           t.node.begin() + t.count);
     };
-    for (auto& buckets : colours_)
-      for (auto& bucket : buckets) std::stable_sort(bucket.begin(), bucket.end(), before);
+#pragma omp parallel for schedule(static) if (use_threads(np))
+    for (int b = 0; b < nb; ++b)
+      std::stable_sort(order_.begin() + bucket_start_[b], order_.begin() + bucket_start_[b + 1], before);
+    coloured_ = true;
   }
 
   static bool same_nodes(const Stencil<dim>& s, const Stencil<dim>& t) {
     return s.count == t.count && std::equal(s.node.begin(), s.node.begin() + s.count, t.node.begin());
   }
 
-  /// f(bucket) for every bucket, colour by colour; the buckets of a colour on threads.
+  /// f(first, last) for the points of every bucket, colour by colour; the buckets of a
+  /// colour on threads.
   template <class F>
   void for_each_bucket(F&& f) const {
-    for (const auto& buckets : colours_) {
-      const int nb = static_cast<int>(buckets.size());
+    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
 #pragma omp parallel for schedule(dynamic, 16) if (use_threads(points_.size()))
-      for (int b = 0; b < nb; ++b) f(buckets[b]);
+      for (int b = colour_start_[c]; b < colour_start_[c + 1]; ++b)
+        f(order_.data() + bucket_start_[b], order_.data() + bucket_start_[b + 1]);
     }
   }
 
   const PointStencils<dim>& st_;
   const MaterialPoints<dim>& points_;
   const DofMap& dofs_;
-  std::vector<std::vector<std::vector<int>>> colours_;  ///< colour -> bucket -> points
+  bool coloured_ = false;
+  std::vector<int> colour_start_, bucket_start_, order_;  ///< colour(): colour -> buckets -> points
 };
 
 }  // namespace gradmpm

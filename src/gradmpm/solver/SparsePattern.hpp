@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/solver/DofMap.hpp"
 
 namespace gradmpm {
@@ -13,54 +14,88 @@ namespace gradmpm {
 /// Returns a compressed matrix holding the pattern with all values zero. Node by node:
 /// the points touching a node (an incidence list) name its neighbours, which are
 /// collected once each with a stamp array and sorted (a couple of dozen per node), and
-/// written straight into the compressed arrays.
+/// written straight into the compressed arrays. The neighbour lists and the compressed
+/// arrays are made on threads, each over a contiguous range of nodes; the result does
+/// not depend on them. (Column_2d at 1e5 dof, 2 threads: the pattern was half of a load
+/// step's set-up, 31 ms; with repeated stencils skipped and the threads, 23-25 ms. The
+/// neighbour lists are bound by memory and gain nothing from the second thread, the
+/// compressed arrays 30 %; scratch allocated inside the threads cost 6 ms.)
 /// Groups of nodes couple all their nodes (a point's stencil; with F-bar, a cell's
 /// points' stencils together): `count(g)` and `node(g, a)` describe group g.
 template <class Count, class Node>
 SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, const DofMap& dofs) {
   const int n_active = dofs.num_active_nodes(), nc = dofs.ncomp();
   auto eq = [&](int node) { return dofs.dof(node, 0) / nc; };
+  // A group with the nodes of the one before adds nothing (the points of a cell often
+  // share their stencil): only the others are listed.
+  std::vector<int> distinct;
+  distinct.reserve(groups);
+  for (int g = 0; g < groups; ++g) {
+    bool same = g > 0 && count(g) == count(g - 1);
+    for (int a = 0; same && a < count(g); ++a) same = node(g, a) == node(g - 1, a);
+    if (!same) distinct.push_back(g);
+  }
   // Groups touching each active node, as compressed lists.
   std::vector<int> first(n_active + 1, 0);
-  for (int g = 0; g < groups; ++g)
+  for (int g : distinct)
     for (int a = 0; a < count(g); ++a) ++first[eq(node(g, a)) + 1];
   for (int e = 0; e < n_active; ++e) first[e + 1] += first[e];
   std::vector<int> touching(first[n_active]), fill(first);  // fill[e]: next free slot of node e
-  for (int g = 0; g < groups; ++g)
+  for (int g : distinct)
     for (int a = 0; a < count(g); ++a) touching[fill[eq(node(g, a))]++] = g;
-  // Neighbour equations of each active node.
-  std::vector<int> nbr_first(n_active + 1, 0), nbrs, stamp(n_active, -1);
-  nbrs.reserve(static_cast<std::size_t>(n_active) * 25);
-  for (int e = 0; e < n_active; ++e) {
-    const std::size_t begin = nbrs.size();
-    for (int k = first[e]; k < first[e + 1]; ++k) {
-      const int g = touching[k];
-      for (int b = 0; b < count(g); ++b) {
-        const int f = eq(node(g, b));
-        if (stamp[f] != e) {
-          stamp[f] = e;
-          nbrs.push_back(f);
+  // Neighbour equations of each active node: chunk t of the nodes into nbrs[t].
+  const bool threaded = use_threads(groups);
+  const int chunks = threaded ? max_threads() : 1;
+  std::vector<std::vector<int>> nbrs(chunks), stamps(chunks, std::vector<int>(n_active, -1));
+  std::vector<int> nbr_count(n_active);
+  auto chunk_begin = [&](int t) { return static_cast<int>(static_cast<long>(n_active) * t / chunks); };
+  for (int t = 0; t < chunks; ++t) nbrs[t].reserve(static_cast<std::size_t>(chunk_begin(t + 1) - chunk_begin(t)) * 25);
+#pragma omp parallel for schedule(static, 1) if (threaded)
+  for (int t = 0; t < chunks; ++t) {
+    std::vector<int>& stamp = stamps[t];
+    auto& list = nbrs[t];
+    for (int e = chunk_begin(t); e < chunk_begin(t + 1); ++e) {
+      const std::size_t begin = list.size();
+      for (int k = first[e]; k < first[e + 1]; ++k) {
+        const int g = touching[k];
+        for (int b = 0; b < count(g); ++b) {
+          const int f = eq(node(g, b));
+          if (stamp[f] != e) {
+            stamp[f] = e;
+            list.push_back(f);
+          }
         }
       }
+      std::sort(list.begin() + begin, list.end());
+      nbr_count[e] = static_cast<int>(list.size() - begin);
     }
-    std::sort(nbrs.begin() + begin, nbrs.end());
-    nbr_first[e + 1] = static_cast<int>(nbrs.size());
   }
   // Compressed column storage: column (e, c) holds rows (f, r) for every neighbour f.
+  std::vector<long> entries_before(n_active + 1, 0);  // nc^2 entries per neighbour pair
+  for (int e = 0; e < n_active; ++e)
+    entries_before[e + 1] = entries_before[e] + static_cast<long>(nbr_count[e]) * nc * nc;
   const int n = n_active * nc;
   SparseMatrix A(n, n);
-  A.resizeNonZeros(static_cast<Eigen::Index>(nbrs.size()) * nc * nc);
+  A.resizeNonZeros(static_cast<Eigen::Index>(entries_before[n_active]));
   int* outer = A.outerIndexPtr();
   int* inner = A.innerIndexPtr();
-  int k = 0;
-  for (int e = 0; e < n_active; ++e)
-    for (int c = 0; c < nc; ++c) {
-      outer[e * nc + c] = k;
-      for (int m = nbr_first[e]; m < nbr_first[e + 1]; ++m)
-        for (int r = 0; r < nc; ++r) inner[k++] = nbrs[m] * nc + r;
+  double* values = A.valuePtr();
+#pragma omp parallel for schedule(static, 1) if (threaded)
+  for (int t = 0; t < chunks; ++t) {
+    const int* f = nbrs[t].data();
+    for (int e = chunk_begin(t); e < chunk_begin(t + 1); ++e) {
+      const int m = nbr_count[e];
+      for (int c = 0; c < nc; ++c) {
+        int k = static_cast<int>(entries_before[e]) + c * m * nc;
+        outer[e * nc + c] = k;
+        for (int j = 0; j < m; ++j)
+          for (int r = 0; r < nc; ++r) inner[k++] = f[j] * nc + r;
+      }
+      std::fill(values + entries_before[e], values + entries_before[e + 1], 0.0);
+      f += m;
     }
-  outer[n] = k;
-  std::fill(A.valuePtr(), A.valuePtr() + k, 0.0);
+  }
+  outer[n] = static_cast<int>(entries_before[n_active]);
   return A;
 }
 
