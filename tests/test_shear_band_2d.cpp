@@ -12,8 +12,12 @@
 //  S3 without regularisation the band is as thin as the grid allows: at most 2.5 cells at
 //     either grid, so it narrows with the cells under refinement, while the regularised
 //     band is at least 2 l thick (4 cells at h = l/2, 6 at l/3).
-// The fine grid's runs and the thickness proportional to l are measured in the docs (a
-// third grid, h = l/4, and l/2 take tens of minutes).
+//  S4 the regularised thickness is proportional to l: with l = 1/8, 1/12 and 1/18 (each
+//     on h = l/2, the weak patch l x l), compared where the platen force has fallen past
+//     the peak to the same value, thickness / l of l = 1/8 and of l = 1/18 are within 10 %
+//     of that of l = 1/12: two pairs.
+// The fine grid's runs are measured in the docs (a third grid, h = l/4, takes tens of
+// minutes).
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -122,36 +126,52 @@ struct BiaxialRun {
   std::string why;
 };
 
+struct ForceReached {};  // thrown by the observer to end a run at a force (S4)
+
 /// The example on cells of h = 1 / (24 r) (the example's is r = 1), its platen moved by
-/// kPlaten in the example's step size.
-BiaxialRun run_biaxial(double r, bool regularised) {
+/// `platen` in the example's step size; with length scale l (and weak patch l x l). With
+/// stop_force > 0 the run ends at the first step past the peak whose force is below it.
+BiaxialRun run_biaxial(double r, bool regularised, double l = kL, double platen = kPlaten, double stop_force = 0.0) {
   const double h = 1.0 / (24.0 * r);
   std::vector<std::string> set{fmt::format("grid.origin=[-0.25,{}]", -2 * h),
                                fmt::format("grid.cell_size={}", h),
                                fmt::format("grid.cells=[{},{}]", std::lround(36 * r), std::lround(52 * r + 2)),
-                               fmt::format("rigid_boxes[0].displacement=[0.0,{}]", -kPlaten),
-                               fmt::format("load_steps.count={}", kSteps),
+                               fmt::format("rigid_boxes[0].displacement=[0.0,{}]", -platen),
+                               fmt::format("load_steps.count={}", std::lround(platen / kPlaten * kSteps)),
                                "output.vtk_every=0"};
+  if (l != kL) {
+    set.push_back(fmt::format("regularisation.length_scale={}", l));
+    set.push_back(fmt::format("bodies[0].max=[{0},{0}]", l));
+    set.push_back(fmt::format("bodies[1].polygon=[[{0},0.0],[1.0,0.0],[1.0,2.0],[0.0,2.0],[0.0,{0}],[{0},{0}]]", l));
+  }
   CaseFile cf = CaseFile::load(kExample, set);
   if (!regularised) cf.remove_section("regularisation");
   MpmCase<2> c = read_mpm_case<2>(cf);
   BiaxialRun out;
   out.h = h;
+  double peak = 0.0;
   try {
     run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo& info) {
       const Vector f = info.rigid_forces();
       out.force = -f[1];
+      peak = std::max(peak, out.force);
+      if (stop_force > 0.0 && out.force < stop_force && out.force < peak) throw ForceReached{};
     });
+    if (stop_force > 0.0) {
+      out.failed = true;
+      out.why = fmt::format("the force did not fall to {} by platen {}", stop_force, platen);
+    }
+  } catch (const ForceReached&) {
   } catch (const SolverError& e) {
     out.failed = true;
     out.why = e.what();
   }
   out.band = measure(c.model, h / 2);
   fmt::print(
-      "{}, h = l/{:.0f}: {} platen force {:.4f}; band at {:.2f} deg, thickness {:.4f} ({:.2f} l, {:.2f} h) +- {:.4f} "
-      "over {} sections, peak eps_p {:.4f}\n",
-      regularised ? "regularised" : "classical", kL / h, out.failed ? "FAILED (" + out.why + ")," : "", out.force,
-      out.band.angle, out.band.thickness, out.band.thickness / kL, out.band.thickness / h, out.band.spread,
+      "{}, l = {:.4f}, h = l/{:.0f}: {} platen force {:.4f} (peak {:.4f}); band at {:.2f} deg, thickness {:.4f} "
+      "({:.2f} l, {:.2f} h) +- {:.4f} over {} sections, peak eps_p {:.4f}\n",
+      regularised ? "regularised" : "classical", l, l / h, out.failed ? "FAILED (" + out.why + ")," : "", out.force,
+      peak, out.band.angle, out.band.thickness, out.band.thickness / l, out.band.thickness / h, out.band.spread,
       out.band.sections, out.band.peak);
   return out;
 }
@@ -173,6 +193,23 @@ TEST(ShearBand2d, ClassicalBandNarrowsWithTheGrid) {
     ASSERT_GE(c.band.sections, 10) << c.why;
     EXPECT_LE(c.band.thickness, 2.5 * c.h);  // S3
   }
+}
+
+TEST(ShearBand2d, RegularisedThicknessIsProportionalToTheLengthScale) {  // S4
+  constexpr double kForce = 1.09;                                        // past the peak on all three (1.14-1.15)
+  const double scales[] = {1.0 / 8.0, kL, 1.0 / 18.0};
+  std::vector<double> per_l;
+  for (const double l : scales) {
+    const BiaxialRun r = run_biaxial(kL / l, true, l, 0.03, kForce);  // h = l/2
+    ASSERT_FALSE(r.failed) << r.why;
+    ASSERT_GE(r.band.sections, 8);
+    EXPECT_NEAR(r.band.angle, 45.0, 3.0);
+    per_l.push_back(r.band.thickness / l);
+  }
+  fmt::print("thickness / l at force {}: {:.3f} (l = 1/8), {:.3f} (1/12), {:.3f} (1/18)\n", kForce, per_l[0], per_l[1],
+             per_l[2]);
+  EXPECT_NEAR(per_l[0] / per_l[1], 1.0, 0.10) << "l = 1/8 against 1/12";
+  EXPECT_NEAR(per_l[2] / per_l[1], 1.0, 0.10) << "l = 1/18 against 1/12";
 }
 
 }  // namespace

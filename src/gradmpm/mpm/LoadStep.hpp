@@ -137,16 +137,24 @@ class LoadStep {
   /// the penalty terms at the iterate du (ghost faces, rigid-box contacts), which act as
   /// internal forces of the grid.
   void scatter_internal_force(const Vector& du, Vector& f_int) {
-    assembler_.for_each_point_disjoint([&](int p) {
-      const Stencil<dim>& s = st_[p];
-      const auto& G = grads_[p];
-      const Mat3& stress = response_[p].stress;
+    // The points of a run share their stencil nodes: their sum is scattered once.
+    assembler_.for_each_run([&](const int* first, const int* last) {
+      const Stencil<dim>& s = st_[*first];
+      std::array<Vec<dim>, Stencil<dim>::capacity> f;
+      for (int a = 0; a < s.count; ++a) f[a].setZero();
+      for (const int* q = first; q != last; ++q) {
+        const auto& G = grads_[*q];
+        const Mat3& stress = response_[*q].stress;
+        const double w = weights_[*q];
+        for (int a = 0; a < s.count; ++a)
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j) v += stress(i, j) * G[a][j];
+            f[a][i] += w * v;
+          }
+      }
       for (int a = 0; a < s.count; ++a)
-        for (int i = 0; i < dim; ++i) {
-          double f = 0.0;
-          for (int j = 0; j < dim; ++j) f += stress(i, j) * G[a][j];
-          f_int[dofs_.dof(s.node[a], i)] += weights_[p] * f;
-        }
+        for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
     });
     if (ghost_) ghost_->add_force(dofs_, du, f_int);
     if (contact_) contact_->add_force(du, f_int);
@@ -158,7 +166,11 @@ class LoadStep {
   /// formed and the assembler mirrors them: half the products, the largest part of the
   /// assembly (docs/performance.md).
   void stiffness(SparseMatrix& K) {
-    K = pattern_;
+    if (&K == last_stiffness_ && K.nonZeros() == pattern_.nonZeros() && K.rows() == pattern_.rows())
+      std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);  // the pattern is there: no copy
+    else
+      K = pattern_;
+    last_stiffness_ = &K;
     if (fbar_) fbar_q_.resize(model_.points.size());
     const bool symmetric = model_.symmetric_tangent();
     assembler_.add_matrix(
@@ -392,6 +404,7 @@ class LoadStep {
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;
   SparseMatrix pattern_;
+  const SparseMatrix* last_stiffness_ = nullptr;  ///< the matrix stiffness() filled last (its pattern is pattern_)
   Assembler<dim> assembler_;
   std::vector<int> constrained_;
   std::vector<double> increments_;

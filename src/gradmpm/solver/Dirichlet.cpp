@@ -17,9 +17,14 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
   // Constrained equations get the largest diagonal of A: the scale of the system, so the
   // factorisation sees no tiny or negative pivot there whatever the row held before.
   double scale = 0.0;
-  for (int col = 0; col < A.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(A, col); it; ++it)
-      if (it.row() == col) scale = std::max(scale, std::abs(it.value()));
+  const int* inner = A.innerIndexPtr();
+  for (int col = 0; col < A.outerSize(); ++col) {  // the diagonal by binary search in each column
+    const int* begin = inner + A.outerIndexPtr()[col];
+    const int* end =
+        inner + (A.isCompressed() ? A.outerIndexPtr()[col + 1] : A.outerIndexPtr()[col] + A.innerNonZeroPtr()[col]);
+    const int* d = std::lower_bound(begin, end, col);
+    if (d != end && *d == col) scale = std::max(scale, std::abs(A.valuePtr()[d - inner]));
+  }
   if (!(scale > 0.0)) scale = 1.0;
   scale_ = scale;
   for (int col = 0; col < A.outerSize(); ++col) {
