@@ -27,22 +27,27 @@ SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, con
   const int n_active = dofs.num_active_nodes(), nc = dofs.ncomp();
   auto eq = [&](int node) { return dofs.dof(node, 0) / nc; };
   // A group with the nodes of the one before adds nothing (the points of a cell often
-  // share their stencil): only the others are listed.
-  std::vector<int> distinct;
-  distinct.reserve(groups);
+  // share their stencil): only the others are kept, as compact lists of their nodes'
+  // equations (group k's are eqs[group_first[k] .. group_first[k + 1])), so the loops
+  // below read contiguous memory, not the stencils.
+  std::vector<int> group_first{0}, eqs;
+  group_first.reserve(groups + 1);
+  eqs.reserve(static_cast<std::size_t>(groups) * 9);
   for (int g = 0; g < groups; ++g) {
     bool same = g > 0 && count(g) == count(g - 1);
     for (int a = 0; same && a < count(g); ++a) same = node(g, a) == node(g - 1, a);
-    if (!same) distinct.push_back(g);
+    if (same) continue;
+    for (int a = 0; a < count(g); ++a) eqs.push_back(eq(node(g, a)));
+    group_first.push_back(static_cast<int>(eqs.size()));
   }
+  const int distinct = static_cast<int>(group_first.size()) - 1;
   // Groups touching each active node, as compressed lists.
   std::vector<int> first(n_active + 1, 0);
-  for (int g : distinct)
-    for (int a = 0; a < count(g); ++a) ++first[eq(node(g, a)) + 1];
+  for (int e : eqs) ++first[e + 1];
   for (int e = 0; e < n_active; ++e) first[e + 1] += first[e];
   std::vector<int> touching(first[n_active]), fill(first);  // fill[e]: next free slot of node e
-  for (int g : distinct)
-    for (int a = 0; a < count(g); ++a) touching[fill[eq(node(g, a))]++] = g;
+  for (int k = 0; k < distinct; ++k)
+    for (int m = group_first[k]; m < group_first[k + 1]; ++m) touching[fill[eqs[m]]++] = k;
   // Neighbour equations of each active node: chunk t of the nodes into nbrs[t].
   const bool threaded = use_threads(groups);
   const int chunks = threaded ? max_threads() : 1;
@@ -58,8 +63,8 @@ SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, con
       const std::size_t begin = list.size();
       for (int k = first[e]; k < first[e + 1]; ++k) {
         const int g = touching[k];
-        for (int b = 0; b < count(g); ++b) {
-          const int f = eq(node(g, b));
+        for (int m = group_first[g]; m < group_first[g + 1]; ++m) {
+          const int f = eqs[m];
           if (stamp[f] != e) {
             stamp[f] = e;
             list.push_back(f);
