@@ -11,9 +11,8 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <type_traits>
-#include <utility>
 
+#include "gradmpm/core/DefaultInitAllocator.hpp"
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/mpm/FBar.hpp"
 #include "gradmpm/mpm/GhostPenalty.hpp"
@@ -24,25 +23,6 @@
 #include "gradmpm/solver/Assembler.hpp"
 
 namespace gradmpm::detail {
-
-/// An allocator whose value-less construct() default-initialises: a vector of trivially
-/// constructible elements made with a size is not zeroed.
-template <class T>
-struct DefaultInitAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = DefaultInitAllocator<U>;
-  };
-  using std::allocator<T>::allocator;
-  template <class U>
-  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
 
 /// A Newton failure inside one load step (the caller cuts the increment).
 struct StepFailure {
@@ -77,14 +57,7 @@ class LoadStep {
       constrained_.push_back(dof);
       increments_.push_back(value);
     }
-    // External force at the end of the step, eq. (1): f_i = sum_p N_i (m_p g + f_p) lambda.
-    f_ext_ = Vector::Zero(dofs_.num_dofs());
-    for (int p = 0; p < m.points.size(); ++p) {
-      const Vec<dim> f = (m.points.mass[p] * m.gravity + m.points.force[p]) * lambda_end;
-      const Stencil<dim>& s = st_[p];
-      for (int a = 0; a < s.count; ++a)
-        for (int i = 0; i < dim; ++i) f_ext_[dofs_.dof(s.node[a], i)] += s.N[a] * f[i];
-    }
+    f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
   }
 
   const DofMap& dofs() const { return dofs_; }
@@ -254,12 +227,7 @@ class LoadStep {
   }
 
   /// The active nodes' coordinates, one row per node in equation order.
-  Eigen::MatrixXd node_coordinates() const {
-    Eigen::MatrixXd x(dofs_.num_active_nodes(), dim);
-    for (int e = 0; e < dofs_.num_active_nodes(); ++e)
-      x.row(e) = model_.grid.node_position(dofs_.node_of(e)).transpose();
-    return x;
-  }
+  Eigen::MatrixXd node_coordinates() const { return dofs_.coordinates(model_.grid); }
 
   /// After commit: frees what only Newton needed (pattern, responses, trial state,
   /// gradients), keeping the stencils and the equation numbering for the grid fields.
@@ -275,15 +243,7 @@ class LoadStep {
 
   /// A vector in equation numbering at every grid node (dim values per node; zero on
   /// inactive nodes): the increment du, or the reactions f_int - f_ext.
-  Vector on_grid(const Vector& v) const {
-    const int nn = model_.grid.num_nodes();
-    Vector u = Vector::Zero(static_cast<Eigen::Index>(nn) * dim);
-    for (int i = 0; i < dim; ++i) {
-      const Vector gi = dofs_.to_grid(v, i);
-      for (int n = 0; n < nn; ++n) u[n * dim + i] = gi[n];
-    }
-    return u;
-  }
+  Vector on_grid(const Vector& v) const { return dofs_.to_grid_all(v); }
   Vector grid_reaction() const { return on_grid(f_int_converged_ - f_ext_); }
   /// The force of each rigid box on the body at the converged iterate (dim per box).
   Vector rigid_forces() const {
@@ -294,12 +254,7 @@ class LoadStep {
   }
 
   /// Nodal mass sum_p N_i m_p at every grid node.
-  Vector grid_mass() const {
-    Vector mass = Vector::Zero(model_.grid.num_nodes());
-    for (int p = 0; p < model_.points.size(); ++p)
-      for (int a = 0; a < st_[p].count; ++a) mass[st_[p].node[a]] += st_[p].N[a] * model_.points.mass[p];
-    return mass;
-  }
+  Vector grid_mass() const { return nodal_mass(st_, model_.points, model_.grid.num_nodes()); }
 
  private:
   /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'

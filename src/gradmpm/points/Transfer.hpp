@@ -123,4 +123,27 @@ Vector points_to_nodes(const PointStencils<dim>& st, const MaterialPoints<dim>& 
   return num;
 }
 
+/// Nodal masses sum_p N_i m_p at every grid node.
+template <int dim>
+Vector nodal_mass(const PointStencils<dim>& st, const MaterialPoints<dim>& points, int num_nodes) {
+  Vector mass = Vector::Zero(num_nodes);
+  for (std::size_t p = 0; p < st.size(); ++p)
+    for (int a = 0; a < st[p].count; ++a) mass[st[p].node[a]] += st[p].N[a] * points.mass[p];
+  return mass;
+}
+
+/// The external force at load factor lambda, eq. (1): f_i = sum_p N_i (m_p g + f_p) lambda,
+/// dim components per active node in the equation numbering of `dofs`.
+template <int dim, class DofNumbering>
+Vector external_force(const PointStencils<dim>& st, const MaterialPoints<dim>& points, const Vec<dim>& gravity,
+                      double lambda, const DofNumbering& dofs) {
+  Vector f_ext = Vector::Zero(dofs.num_dofs());
+  for (std::size_t p = 0; p < st.size(); ++p) {
+    const Vec<dim> f = (points.mass[p] * gravity + points.force[p]) * lambda;
+    for (int a = 0; a < st[p].count; ++a)
+      for (int i = 0; i < dim; ++i) f_ext[dofs.dof(st[p].node[a], i)] += st[p].N[a] * f[i];
+  }
+  return f_ext;
+}
+
 }  // namespace gradmpm

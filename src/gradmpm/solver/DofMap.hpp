@@ -32,6 +32,23 @@ class DofMap {
   int dof(int node, int comp) const { return eq_of_node_[node] * ncomp_ + comp; }
   int node_of(int eq) const { return node_of_eq_[eq]; }
 
+  /// A vector in equation numbering at every grid node, ncomp values per node (zero on
+  /// inactive nodes).
+  Vector to_grid_all(const Vector& v) const {
+    Vector u = Vector::Zero(static_cast<Eigen::Index>(num_grid_nodes()) * ncomp_);
+    for (int e = 0; e < num_active_nodes(); ++e)
+      for (int i = 0; i < ncomp_; ++i) u[node_of_eq_[e] * ncomp_ + i] = v[e * ncomp_ + i];
+    return u;
+  }
+
+  /// The active nodes' coordinates, one row per node in equation order.
+  template <int dim>
+  Eigen::MatrixXd coordinates(const Grid<dim>& grid) const {
+    Eigen::MatrixXd x(num_active_nodes(), dim);
+    for (int e = 0; e < num_active_nodes(); ++e) x.row(e) = grid.node_position(node_of_eq_[e]).transpose();
+    return x;
+  }
+
   /// Expands a vector in equation numbering (one component) to all grid nodes,
   /// inactive nodes getting `fill`.
   Vector to_grid(const Vector& v, int comp = 0, double fill = 0.0) const {
