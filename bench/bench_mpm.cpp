@@ -32,9 +32,9 @@
 // phases plus what no phase counts (the Dirichlet elimination, residual norms, copies).
 // ratio = (wall - factor - solve) / (factor + solve): everything that is not the numeric
 // factorisation and solve, against them (before issue 13's last session: the phases
-// pattern + assembly + analysis + update only, which left the uncounted work out). "with gradient" adds a gradient
-// step after the load step (apply = "each_step"), shared out over the step's
-// iterations, its factorisation and solves counted with the solver's.
+// pattern + assembly + analysis + update only, which left the uncounted work out).
+// "with gradient" adds a gradient step after the load step (apply = "each_step"), shared
+// out over the step's iterations, its factorisation and solves counted with the solver's.
 // nonlocal_s is the regularisation's own work per Newton iteration (the kappa_bar
 // operator and solves of the staggered iterations); "regularisation adds" is nonlocal_s
 // against the rest of the iteration. staggers: the step's staggered iterations.

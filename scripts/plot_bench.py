@@ -5,8 +5,9 @@ Usage: plot_bench.py BENCH_CSV OUT_PNG
 For every case and thread count it fits t ~ dof^k (least squares in log-log) to the
 time of one Newton iteration (wall_s where the CSV has it, else the sum of the phases)
 and to numeric factorisation + solve alone, prints k, the ratio (everything else: the
-iteration less factorisation and solve) / (factorisation + solve) at every size and the speed-up of the multithreaded
-assembly; the figure shows one iteration and factorisation + solve against dof.
+iteration less factorisation and solve) / (factorisation + solve) at every size and the
+speed-up of the multithreaded assembly; the figure shows one iteration and
+factorisation + solve against dof.
 """
 import csv
 import math

@@ -36,8 +36,10 @@ struct StepSolvers {
   void start_step() { analysed = described = false; }
   /// After a failed attempt nothing is kept: the factor may be in any state.
   void forget() { *this = StepSolvers{}; }
+  /// Whether main's analysis was made for A's pattern (remembered only for direct solvers:
+  /// an iterative one sets up again with each step's coordinates).
   bool analysed_for(const SparseMatrix& A) const {
-    return !main->iterative() && static_cast<std::size_t>(A.outerSize()) + 1 == outer.size() &&
+    return static_cast<std::size_t>(A.outerSize()) + 1 == outer.size() &&
            static_cast<std::size_t>(A.nonZeros()) == inner.size() &&
            std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
            std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
@@ -167,7 +169,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
         t0 = Clock::now();
         if (!solvers.analysed_for(K)) {
           solver->analyze(K);
-          if (settings.reuse_analysis) solvers.remember_pattern(K);
+          if (settings.reuse_analysis && !solver->iterative()) solvers.remember_pattern(K);
           ++times.analyses;
         }
         times.analysis += seconds_since(t0);

@@ -96,7 +96,7 @@ class Assembler {
           if (k >= 0 && row > prev && k + nc < len && inner[begin + k + nc] == row)
             k += nc;
           else
-            k = static_cast<int>(std::lower_bound(inner + begin, inner + begin + len, row) - (inner + begin));
+            k = pattern_offset(A, row, col) - begin;
           at[a] = k;
           prev = row;
         }

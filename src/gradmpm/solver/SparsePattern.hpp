@@ -16,10 +16,8 @@ namespace gradmpm {
 /// collected once each with a stamp array and sorted (a couple of dozen per node), and
 /// written straight into the compressed arrays. The neighbour lists and the compressed
 /// arrays are made on threads, each over a contiguous range of nodes; the result does
-/// not depend on them. (Column_2d at 1e5 dof, 2 threads: the pattern was half of a load
-/// step's set-up, 31 ms; with repeated stencils skipped and the threads, 23-25 ms. The
-/// neighbour lists are bound by memory and gain nothing from the second thread, the
-/// compressed arrays 30 %; scratch allocated inside the threads cost 6 ms.)
+/// not depend on them. Their scratch is allocated before the parallel region (inside it,
+/// it cost 6 ms at 1e5 dof in 2D); the figures are in docs/performance.md.
 /// Groups of nodes couple all their nodes (a point's stencil; with F-bar, a cell's
 /// points' stencils together): `count(g)` and `node(g, a)` describe group g.
 template <class Count, class Node>
@@ -32,7 +30,7 @@ SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, con
   // below read contiguous memory, not the stencils.
   std::vector<int> group_first{0}, eqs;
   group_first.reserve(groups + 1);
-  eqs.reserve(static_cast<std::size_t>(groups) * 9);
+  eqs.reserve(groups > 0 ? static_cast<std::size_t>(groups) * count(0) : 0);
   for (int g = 0; g < groups; ++g) {
     bool same = g > 0 && count(g) == count(g - 1);
     for (int a = 0; same && a < count(g); ++a) same = node(g, a) == node(g - 1, a);
