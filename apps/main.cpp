@@ -4,21 +4,25 @@
 //   gradmpm keys [bar|bar-mpm|mpm]      the case-file keys as markdown tables
 //
 // Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input (case file,
-// key, value, command line, or an output path that cannot be written; or `run` started
-// as several MPI ranks, which is not supported yet).
+// key, value, command line, or an output path that cannot be written).
+//
+//   mpirun -n N gradmpm run CASE.toml ...   the same run on N MPI ranks (docs/parallel.md)
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 
 #include "gradmpm/app/KeysDoc.hpp"
 #include "gradmpm/app/MpiLaunch.hpp"
 #include "gradmpm/app/RunCase.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 
 namespace {
 // GNU OpenMP's idle threads spin while they wait for work: on a machine shared with other
@@ -84,18 +88,34 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  if (run->parsed()) {
-    // Not distributed yet (issue 14): every rank would run the whole case into the same
-    // folder. One message (rank 0's), the same exit code on every rank.
-    if (const gradmpm::MpiLaunch mpi = gradmpm::mpi_launch_from_environment(); mpi.size > 1) {
-      if (mpi.rank == 0)
-        fmt::print(stderr,
-                   "gradmpm: error: started as {} MPI ranks, but gradmpm does not run distributed yet: run it "
-                   "without mpirun (one process uses every core, --threads N)\n",
-                   mpi.size);
-      return 2;
+  // Several MPI ranks (mpirun -n N): MPI runs for the life of main (docs/parallel.md).
+  const gradmpm::MpiLaunch mpi = gradmpm::mpi_launch_from_environment();
+#ifndef GRADMPM_WITH_PETSC
+  if (run->parsed() && mpi.size > 1) {
+    if (mpi.rank == 0)
+      fmt::print(stderr, "gradmpm: error: started as {} MPI ranks, but this build has no MPI (built without PETSc)\n",
+                 mpi.size);
+    return 2;
+  }
+#endif
+  std::optional<gradmpm::ranks::Session> session;
+  if (run->parsed() && mpi.size > 1) {
+    session.emplace(&argc, &argv);
+    // The ranks of one machine share its cores: each gets its share of OpenMP threads.
+    if (threads == 0 && !std::getenv("OMP_NUM_THREADS")) {
+      const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+      const int on_this_machine = local ? std::max(1, std::atoi(local)) : mpi.size;
+      threads = std::max(1, omp_get_num_procs() / on_this_machine);
     }
   }
+  // One message (rank 0's) for an error every rank meets (the same input, the same
+  // numbers); an error only one rank can meet (its own files) stops every rank.
+  const bool speaks = gradmpm::ranks::rank() == 0;
+  auto fail = [&](bool everywhere, int code, const char* kind, const char* what) {
+    if (speaks || !everywhere) fmt::print(stderr, "gradmpm: {}: {}\n", kind, what);
+    if (!everywhere) gradmpm::ranks::abort(code);
+    return code;
+  };
 
   try {
     if (run->parsed() && threads > 0) omp_set_num_threads(threads);
@@ -103,14 +123,13 @@ int main(int argc, char** argv) {
     if (keys->parsed() && update_doc.empty()) fmt::print("{}", gradmpm::keys_markdown(keys_kind));
     if (keys->parsed() && !update_doc.empty()) gradmpm::update_generated_keys(update_doc);
     return 0;
-  } catch (const gradmpm::UserError& e) {  // bad input or an unwritable output path
-    fmt::print(stderr, "gradmpm: error: {}\n", e.what());
-    return 2;
+  } catch (const gradmpm::OutputError& e) {  // an unwritable output path (rank 0's files)
+    return fail(!gradmpm::ranks::distributed(), 2, "error", e.what());
+  } catch (const gradmpm::UserError& e) {  // bad input
+    return fail(true, 2, "error", e.what());
   } catch (const gradmpm::SolverError& e) {
-    fmt::print(stderr, "gradmpm: solver failure: {}\n", e.what());
-    return 1;
+    return fail(true, 1, "solver failure", e.what());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "gradmpm: failure: {}\n", e.what());
-    return 1;
+    return fail(!gradmpm::ranks::distributed(), 1, "failure", e.what());
   }
 }

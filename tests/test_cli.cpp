@@ -5,8 +5,8 @@
 //    expectation; an unwritable output path too;
 //  - outputs appear whole or not at all: a failure leaves earlier files untouched and no
 //    temporaries behind;
-//  - `gradmpm run` started as several MPI ranks (mpirun -n 2) refuses with exit 2 and one
-//    message, before it writes anything: gradmpm does not run distributed yet (issue 14).
+//  - the 1D bar case started as several MPI ranks (mpirun -n 2) is refused with exit 2 and
+//    one message, before it writes anything (MPM cases run distributed: tests/mpi/).
 #include <gtest/gtest.h>
 
 #include "CliTestUtil.hpp"
@@ -123,27 +123,18 @@ TEST_F(Cli, PlotCanBeSwitchedOff) {
   EXPECT_FALSE(fs::exists(dir / "o" / "bar.png"));
 }
 
-TEST_F(Cli, StartedAsSeveralMpiRanksItRefusesOnceAndWritesNothing) {
+TEST_F(Cli, TheBarStartedAsSeveralMpiRanksIsRefusedOnceAndWritesNothing) {
   const std::string out = (dir / "out").string();
-  // The launchers' variables, as Open MPI and MPICH set them: rank 0 says why, the others
-  // only exit with the same code.
-  Result r = run("run " + example() + " --out " + out, "OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("started as 2 MPI ranks, but gradmpm does not run distributed yet"), std::string::npos) << r.err;
-  r = run("run " + example() + " --out " + out, "PMI_SIZE=3 PMI_RANK=2");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err, "");
-  EXPECT_FALSE(fs::exists(out));
-  // One rank is a plain run.
-  r = run("run " + example() + " --out " + out + " --quiet", "OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0");
+  // One rank (the launcher's variables saying so) is a plain run.
+  Result r = run("run " + example() + " --out " + out + " --quiet", "OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(fs::path(out) / "bar.csv"));
   fs::remove_all(out);
-  // A real launch, where Open MPI's mpirun is installed (scripts/install-deps brings it with PETSc).
+  // MPM cases run distributed (tests/mpi/); the 1D bar does not: rank 0 says so, once.
   if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun on this machine";
   r = run("run " + example() + " --out " + out, "mpirun --allow-run-as-root --oversubscribe -n 2");
   EXPECT_EQ(r.code, 2) << r.err;
-  const std::string why = "does not run distributed yet";
+  const std::string why = "the 1D bar runs on one process";
   const auto first = r.err.find(why);
   ASSERT_NE(first, std::string::npos) << r.err;
   EXPECT_EQ(r.err.find(why, first + 1), std::string::npos) << "one message, not one per rank:\n" << r.err;

@@ -4,6 +4,7 @@
 
 #include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
 namespace gradmpm {
@@ -23,6 +24,11 @@ LinearSolverSettings read_linear_solver_settings(const CaseFile& cf) {
   s.type = read_string(cf, sec.name, sec.key("type"));
   const LinearSolverInfo* type = registry.find(s.type);
   cf.require(type != nullptr, "linear_solver.type", sec.key("type").expected());
+  // On several MPI ranks PETSc distributes the solves (docs/parallel.md).
+  cf.require(!ranks::distributed() || s.type == "petsc", "linear_solver.type",
+             fmt::format("\"petsc\" on {} MPI ranks (with options = \"-ksp_type preonly -pc_type lu "
+                         "-pc_factor_mat_solver_type mumps\" for a direct solve)",
+                         ranks::size()));
   // A solver of general matrices solves the case's non-symmetric ones too, unless the
   // case names another ("petsc" then serves every system).
   KeySpec general_key = sec.key("general");

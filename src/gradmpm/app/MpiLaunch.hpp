@@ -1,9 +1,8 @@
 #pragma once
 // Whether this process was started as one of several MPI ranks (mpirun -n N, mpiexec),
 // read from the variables the launchers set: Open MPI's OMPI_COMM_WORLD_SIZE and _RANK,
-// MPICH's and Intel MPI's PMI_SIZE and PMI_RANK. gradmpm does not run distributed yet
-// (issue 14): N ranks would each run the whole case and write the same output folder, so
-// `gradmpm run` refuses to start instead. Nothing here initialises MPI.
+// MPICH's and Intel MPI's PMI_SIZE and PMI_RANK. main() starts an MPI session
+// (core/Ranks.hpp) only then, so a serial run never initialises MPI.
 namespace gradmpm {
 
 struct MpiLaunch {

@@ -1,11 +1,15 @@
 #include "gradmpm/app/RunCase.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
+
+#include <optional>
 
 #include "gradmpm/app/BarCase.hpp"
 #include "gradmpm/app/Checkpoint.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/io/RunFolder.hpp"
 #include "gradmpm/io/StagedOutputs.hpp"
 
@@ -42,6 +46,47 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
     fmt::print("  time: assembly {:.3g} s, classical solve {:.3g} s, gradient step {:.3g} s, recovery {:.3g} s\n",
                r.timings.assembly_s, r.timings.classical_solve_s, r.timings.gradient_s, r.timings.recovery_s);
 }
+/// A distributed run (core/Ranks.hpp): every rank solves, rank 0 alone prints and writes
+/// the output folder (the others write into a scratch folder of their own, removed at the
+/// end). Whether rank 0 could open the folder is told to every rank before any solving.
+void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  std::optional<RunFolder> folder;
+  std::string problem;
+  if (ranks::rank() == 0) try {
+      folder.emplace(out_dir);
+    } catch (const OutputError& e) {
+      problem = e.what();
+    }
+  const std::vector<char> told = ranks::broadcast(std::vector<char>(problem.begin(), problem.end()));
+  if (!told.empty()) throw UserError(std::string(told.begin(), told.end()));  // every rank, one message
+  fs::path scratch;
+  if (!folder) {
+    scratch = fs::temp_directory_path() / fmt::format("gradmpm-rank{}-{}", ranks::rank(), ::getpid());
+    fs::create_directories(scratch);
+  }
+  struct Remove {
+    fs::path dir;
+    ~Remove() {
+      std::error_code ignored;
+      if (!dir.empty()) fs::remove_all(dir, ignored);
+    }
+  } remove{scratch};
+  const fs::path dir = folder ? folder->staging() : scratch;
+  const MpmRunOptions run{.quiet = options.quiet || !folder,
+                          .shown = out_dir,
+                          .checkpoints = folder ? checkpoint_folder_of(folder->dir()) : scratch / "checkpoints",
+                          .restart = options.restart};
+  try {
+    run_mpm_case(cf, dir, run);
+  } catch (const SolverError&) {
+    if (folder) folder->publish();
+    throw;
+  }
+  if (!folder) return;
+  folder->publish();
+  if (!options.quiet) fmt::print("  wrote {}: {}\n", out_dir.string(), folder->summary());
+}
 }  // namespace
 
 void run_case(const std::filesystem::path& case_file, const RunOptions& options) {
@@ -58,6 +103,10 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
   if (bar && !options.restart.empty())
     throw InputError(fmt::format("--restart {}: {} is a 1D bar case, which has no checkpoints (MPM cases only)",
                                  options.restart.string(), cf.name()));
+  if (ranks::distributed()) {
+    if (bar) throw InputError(fmt::format("{}: the 1D bar runs on one process: start it without mpirun", cf.name()));
+    return run_on_ranks(cf, out_dir, options);
+  }
   // The run writes into a staging folder and publishes it whole (io/RunFolder.hpp): a
   // numerical failure publishes its converged steps; anything else leaves out_dir as it was.
   RunFolder folder(out_dir);

@@ -79,4 +79,18 @@ class FBarCells {
   std::vector<double> weight_;
 };
 
+/// A -> A - Q (x) I: the local part of the F-bar tangent at Kirchhoff stress tau; Q is
+/// kept for the cell coupling (LoadStep::add_fbar_coupling).
+template <int dim>
+void fbar_local_tangent(const Mat3& tau, Eigen::Matrix<double, 9, 9>& A, Mat3& Q) {
+  Q.setZero();
+  for (int i = 0; i < dim; ++i)
+    for (int j = 0; j < dim; ++j) {
+      double trace = 0.0;
+      for (int m = 0; m < dim; ++m) trace += A(3 * i + j, 3 * m + m);
+      Q(i, j) = trace / dim - (1.0 - 1.0 / dim) * tau(i, j);
+      for (int k = 0; k < dim; ++k) A(3 * i + j, 3 * k + k) -= Q(i, j);
+    }
+}
+
 }  // namespace gradmpm

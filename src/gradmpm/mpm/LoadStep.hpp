@@ -14,10 +14,12 @@
 
 #include "gradmpm/core/DefaultInitAllocator.hpp"
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/mpm/FBar.hpp"
 #include "gradmpm/mpm/GhostPenalty.hpp"
 #include "gradmpm/mpm/IncrementGradient.hpp"
 #include "gradmpm/mpm/Model.hpp"
+#include "gradmpm/mpm/PointPartition.hpp"
 #include "gradmpm/mpm/RigidContact.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
@@ -37,6 +39,8 @@ class LoadStep {
   LoadStep(const Model<dim>& m, double lambda_end, double dlambda)
       : model_(m),
         st_(stencils(m)),
+        split_(ranks::distributed() && !m.fbar),
+        part_(partition_points(st_, m.grid.num_nodes(), split_ ? ranks::size() : 1)),
         dofs_(st_, m.grid.num_nodes(), dim),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
         ghost_(m.ghost_penalty > 0.0
@@ -46,7 +50,8 @@ class LoadStep {
                      ? nullptr
                      : std::make_unique<RigidContact<dim>>(m.rigid_boxes, m.points, st_, dofs_, lambda_end)),
         pattern_(make_pattern()),
-        assembler_(st_, m.points, dofs_, &m.grid),
+        assembler_(st_, m.points, dofs_, &m.grid, part_.begin(split_ ? ranks::rank() : 0),
+                   part_.end(split_ ? ranks::rank() : 0)),
         response_(m.points.size()),
         trial_state_(m.points.state.size()) {
     // Prescribed increments of active constrained nodes (last definition wins).
@@ -82,24 +87,27 @@ class LoadStep {
   /// internal force f_int,i = sum_p tau_p grad N_i w_p. The updates are independent and
   /// run on OpenMP threads; f_int is scattered by buckets of points with disjoint nodes
   /// (Assembler::for_each_point_disjoint), so the result does not depend on the threads.
+  /// In a distributed run each rank updates its own points (part_) and f_int is summed.
   void internal_force(const Vector& du, Vector& f_int) {
     if (fbar_) return internal_force_fbar(du, f_int);
     const auto& pts = model_.points;
-    const int np = pts.size();
+    const int np = pts.size(), rank = split_ ? ranks::rank() : 0, mine = part_.count(rank);
+    const int* my_points = part_.begin(rank);
     f_int = Vector::Zero(dofs_.num_dofs());
     grads_.resize(np);
     weights_.resize(np);
-    int inverted = -1;
+    int inverted = std::numeric_limits<int>::max();
     double inverted_det = 0.0;
-#pragma omp parallel for schedule(static) if (use_threads(np))
-    for (int p = 0; p < np; ++p) {
+#pragma omp parallel for schedule(static) if (use_threads(mine))
+    for (int k = 0; k < mine; ++k) {
+      const int p = my_points[k];
       const Stencil<dim>& s = st_[p];
       const Mat3 g = increment_gradient(s, dofs_, du);
       const Mat3 dF = Mat3::Identity() + g;
       const double detdF = dF.determinant();
       if (!(detdF > 0.0)) {
 #pragma omp critical
-        {
+        if (p < inverted) {
           inverted = p;
           inverted_det = detdF;
         }
@@ -123,7 +131,8 @@ class LoadStep {
         weights_[p] = pts.volume[p];
       }
     }
-    if (inverted >= 0) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
+    if (split_) inverted = ranks::min(inverted);  // every rank fails, or none
+    if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
     scatter_internal_force(du, f_int);
   }
 
@@ -150,15 +159,14 @@ class LoadStep {
       for (int a = 0; a < s.count; ++a)
         for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
     });
+    if (split_) ranks::sum(f_int.data(), f_int.size());
     if (ghost_) ghost_->add_force(dofs_, du, f_int);
     if (contact_) contact_->add_force(du, f_int);
   }
 
   /// The tangent K at the state of the last internal_force(): each point's material
-  /// tangent is formed inside the (coloured, threaded) scatter-add and never stored.
-  /// With a symmetric tangent (A_ijkl = A_klij) only the blocks b <= a of a point are
-  /// formed and the assembler mirrors them: half the products, the largest part of the
-  /// assembly (docs/performance.md).
+  /// tangent is formed inside the (coloured, threaded) scatter-add, never stored. With a
+  /// symmetric tangent (A_ijkl = A_klij) only the blocks b <= a are formed and mirrored.
   void stiffness(SparseMatrix& K) {
     if (&K == last_stiffness_ && K.nonZeros() == pattern_.nonZeros() && K.rows() == pattern_.rows())
       std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);  // the pattern is there: no copy
@@ -174,7 +182,7 @@ class LoadStep {
           const auto& G = grads_[p];
           Mat9 A;
           model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
-          if (fbar_) fbar_local_tangent(p, A);
+          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[p]);
           const double w = weights_[p];
           for (int b = 0; b < s.count; ++b) {
             double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
@@ -195,6 +203,7 @@ class LoadStep {
           }
         },
         symmetric);
+    if (split_) ranks::sum(K.valuePtr(), K.nonZeros());  // every rank holds the whole K
     if (fbar_) add_fbar_coupling(K);
     if (ghost_) ghost_->add_matrix(dofs_, K);
     if (contact_) contact_->add_matrix(K);
@@ -229,8 +238,7 @@ class LoadStep {
   /// The active nodes' coordinates, one row per node in equation order.
   Eigen::MatrixXd node_coordinates() const { return dofs_.coordinates(model_.grid); }
 
-  /// After commit: frees what only Newton needed (pattern, responses, trial state,
-  /// gradients), keeping the stencils and the equation numbering for the grid fields.
+  /// After commit: frees what only Newton needed, keeping stencils and equation numbers.
   void release_newton_data() {
     pattern_ = SparseMatrix();
     decltype(response_)().swap(response_);
@@ -239,7 +247,14 @@ class LoadStep {
     std::vector<double>().swap(weights_);
   }
 
-  void keep_converged_force(const Vector& f_int) { f_int_converged_ = f_int; }
+  /// At a converged iterate: keeps f_int (reactions); a distributed run's ranks swap their
+  /// points' stresses and histories (commit and the staggered regularisation read all).
+  void converged(const Vector& f_int) {
+    f_int_converged_ = f_int;
+    if (split_)
+      share_point_results(
+          part_, model_.points.state_stride, [&](int p) { return response_[p].stress.data(); }, trial_state_.data());
+  }
 
   /// A vector in equation numbering at every grid node (dim values per node; zero on
   /// inactive nodes): the increment du, or the reactions f_int - f_ext.
@@ -325,20 +340,6 @@ class LoadStep {
     return dF;
   }
 
-  /// A -> A - Q (x) I (the local part of the F-bar tangent); keeps Q_p for the coupling.
-  void fbar_local_tangent(int p, Mat9& A) {
-    const Mat3& tau = response_[p].stress;
-    Mat3& Q = fbar_q_[p];
-    Q.setZero();
-    for (int i = 0; i < dim; ++i)
-      for (int j = 0; j < dim; ++j) {
-        double trace = 0.0;
-        for (int m = 0; m < dim; ++m) trace += A(3 * i + j, 3 * m + m);
-        Q(i, j) = trace / dim - (1.0 - 1.0 / dim) * tau(i, j);
-        for (int k = 0; k < dim; ++k) A(3 * i + j, 3 * k + k) -= Q(i, j);
-      }
-  }
-
   /// The cell coupling of F-bar: K += U_c V_c^T per cell, U_c(a i) = sum_p W_p G_pa,j Q_p,ij,
   /// V_c(b k) = sum_q beta_q G_qb,k over the cell's points, beta_q = w_q dJ_q / dJbar.
   void add_fbar_coupling(SparseMatrix& K) const {
@@ -373,6 +374,8 @@ class LoadStep {
 
   const Model<dim>& model_;
   PointStencils<dim> st_;
+  bool split_;           ///< distributed: each rank updates its own points (not yet with F-bar)
+  PointPartition part_;  ///< the points of each rank (one run of every point when not split)
   DofMap dofs_;
   std::unique_ptr<FBarCells<dim>> fbar_;
   std::unique_ptr<GhostFaces<dim>> ghost_;      ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off

@@ -143,7 +143,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     absolute_residuals.push_back(absolute);
     const bool stalled = it >= 3 && absolute < 10.0 * floor && absolute > 0.5 * absolute_residuals[it - 2];
     if (err < settings.tolerance || (it > 0 && absolute < floor) || stalled) {
-      step.keep_converged_force(f_int);
+      step.converged(f_int);
       return du;
     }
     if (it == settings.max_iterations)

@@ -20,10 +20,18 @@ class Assembler {
   using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, max_local, max_local>;
 
   /// With the grid, points are coloured for race-free threaded assembly (below); without
-  /// it the scatter-add is serial.
+  /// it the scatter-add is serial. `subset`: the points the loops visit (this rank's in a
+  /// distributed run, mpm/PointPartition.hpp), [first, last); default every point.
   Assembler(const PointStencils<dim>& stencils, const MaterialPoints<dim>& points, const DofMap& dofs,
-            const Grid<dim>* grid = nullptr)
+            const Grid<dim>* grid = nullptr, const int* first = nullptr, const int* last = nullptr)
       : st_(stencils), points_(points), dofs_(dofs) {
+    if (first) {
+      subset_.assign(first, last);
+      std::sort(subset_.begin(), subset_.end());
+    } else {
+      subset_.resize(points.size());
+      for (int p = 0; p < points.size(); ++p) subset_[p] = p;
+    }
     if (grid) colour(*grid);
   }
 
@@ -39,7 +47,7 @@ class Assembler {
   template <class F>
   void for_each_point_disjoint(F&& f) const {
     if (!coloured_) {
-      for (int p = 0; p < points_.size(); ++p) f(p);
+      for (int p : subset_) f(p);
       return;
     }
     for_each_bucket([&](const int* first, const int* last) {
@@ -60,9 +68,7 @@ class Assembler {
       }
     };
     if (!coloured_) {
-      std::vector<int> all(points_.size());
-      for (int p = 0; p < points_.size(); ++p) all[p] = p;
-      runs(all.data(), all.data() + all.size());
+      runs(subset_.data(), subset_.data() + subset_.size());
       return;
     }
     for_each_bucket(runs);
@@ -208,10 +214,11 @@ class Assembler {
   /// order_[bucket_start_[b] .. bucket_start_[b + 1]), the buckets of colour c are
   /// colour_start_[c] .. colour_start_[c + 1]) (one allocation each, not one per bucket).
   void colour(const Grid<dim>& grid) {
-    const int np = points_.size(), colours = ipow(3, dim);
-    std::vector<int> anchor_of(np), colour_of(np);
+    const int np = static_cast<int>(subset_.size()), colours = ipow(3, dim);
+    std::vector<int> anchor_of(np), colour_of(np);  // of subset_[k], by k
 #pragma omp parallel for schedule(static) if (use_threads(np))
-    for (int p = 0; p < np; ++p) {
+    for (int k = 0; k < np; ++k) {
+      const int p = subset_[k];
       typename Grid<dim>::Index anchor;
       anchor.fill(std::numeric_limits<int>::max());
       for (int a = 0; a < st_[p].count; ++a) {
@@ -220,25 +227,25 @@ class Assembler {
       }
       int c = 0;
       for (int d = dim - 1; d >= 0; --d) c = 3 * c + anchor[d] % 3;
-      anchor_of[p] = grid.node_index(anchor);
-      colour_of[p] = c;
+      anchor_of[k] = grid.node_index(anchor);
+      colour_of[k] = c;
     }
     // Buckets numbered per colour in the order their first point comes.
     std::vector<int> bucket_of(grid.num_nodes(), -1), in_colour(colours, 0), local(np);
-    for (int p = 0; p < np; ++p) {
-      int& b = bucket_of[anchor_of[p]];
-      if (b < 0) b = in_colour[colour_of[p]]++;
-      local[p] = b;
+    for (int k = 0; k < np; ++k) {
+      int& b = bucket_of[anchor_of[k]];
+      if (b < 0) b = in_colour[colour_of[k]]++;
+      local[k] = b;
     }
     colour_start_.assign(colours + 1, 0);
     for (int c = 0; c < colours; ++c) colour_start_[c + 1] = colour_start_[c] + in_colour[c];
     const int nb = colour_start_[colours];
     bucket_start_.assign(nb + 1, 0);
-    for (int p = 0; p < np; ++p) ++bucket_start_[colour_start_[colour_of[p]] + local[p] + 1];
+    for (int k = 0; k < np; ++k) ++bucket_start_[colour_start_[colour_of[k]] + local[k] + 1];
     for (int b = 0; b < nb; ++b) bucket_start_[b + 1] += bucket_start_[b];
     order_.resize(np);
     std::vector<int> next(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (int p = 0; p < np; ++p) order_[next[colour_start_[colour_of[p]] + local[p]]++] = p;
+    for (int k = 0; k < np; ++k) order_[next[colour_start_[colour_of[k]] + local[k]]++] = subset_[k];
     // Within a bucket, the points of one stencil together (for_each_run), in index order.
     auto before = [&](int p, int q) {
       const Stencil<dim>&s = st_[p], &t = st_[q];
@@ -272,6 +279,7 @@ class Assembler {
   const PointStencils<dim>& st_;
   const MaterialPoints<dim>& points_;
   const DofMap& dofs_;
+  std::vector<int> subset_;  ///< the points the loops visit, in index order
   bool coloured_ = false;
   std::vector<int> colour_start_, bucket_start_, order_;  ///< colour(): colour -> buckets -> points
 };

@@ -21,14 +21,17 @@
 #include <sstream>
 
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
 namespace gradmpm {
 
 namespace {
 
-/// PETSc (and MPI, through it) initialised once, on first use, and finalised at exit.
-/// Errors return codes instead of printing: they become SolverError messages.
+/// PETSc (and MPI, through it, in a serial run) initialised once, on first use, and
+/// finalised at exit, or before MPI stops in a distributed run (core/Ranks.hpp: PETSc
+/// uses MPI_COMM_WORLD then). Errors return codes instead of printing: they become
+/// SolverError messages.
 class PetscRuntime {
  public:
   static void ensure() { static PetscRuntime runtime; }
@@ -39,8 +42,15 @@ class PetscRuntime {
   PetscRuntime() {
     if (PetscInitializeNoArguments() != 0) throw SolverError("PETSc could not be initialised");
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+    ranks::before_stop([] { finalise(); });
   }
-  ~PetscRuntime() { PetscFinalize(); }
+  ~PetscRuntime() { finalise(); }
+  static void finalise() {
+    PetscBool initialised = PETSC_FALSE, finalised = PETSC_FALSE;
+    PetscInitialized(&initialised);
+    PetscFinalized(&finalised);
+    if (initialised && !finalised) PetscFinalize();
+  }
 };
 
 /// Throws SolverError with PETSc's message when `code` is an error.
@@ -109,43 +119,70 @@ class Petsc final : public LinearSolver {
   void do_analyze(const SparseMatrix& A) override {
     destroy();
     const PetscInt n = static_cast<PetscInt>(A.rows());
-    // Compressed rows from Eigen's compressed columns; `position_[k]`: where the k-th
-    // stored value of A goes, so that a refactorisation only copies values.
-    std::vector<PetscInt> row_start(n + 1, 0), columns(A.nonZeros());
+    const int bs = description_.block_size > 1 && n % description_.block_size == 0 ? description_.block_size : 1;
+    split_rows(n, bs);
+    const PetscInt m = last_ - first_;  // the rows this rank owns: [first_, last_)
+    // Compressed rows (this rank's) from Eigen's compressed columns; `position_[k]`: where
+    // the k-th stored value of A goes (-1: a row of another rank), so that a
+    // refactorisation only copies values.
+    std::vector<PetscInt> row_start(m + 1, 0);
     for (int c = 0; c < A.outerSize(); ++c)
-      for (SparseMatrix::InnerIterator it(A, c); it; ++it) ++row_start[it.row() + 1];
-    for (PetscInt r = 0; r < n; ++r) row_start[r + 1] += row_start[r];
-    std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
-    position_.assign(A.nonZeros(), 0);
+      for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+        if (it.row() >= first_ && it.row() < last_) ++row_start[it.row() - first_ + 1];
+    for (PetscInt r = 0; r < m; ++r) row_start[r + 1] += row_start[r];
+    std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1), columns(row_start[m]);
+    position_.assign(A.nonZeros(), -1);
     Eigen::Index k = 0;
     for (int c = 0; c < A.outerSize(); ++c)
-      for (SparseMatrix::InnerIterator it(A, c); it; ++it, ++k) {
-        position_[k] = next[it.row()]++;
-        columns[position_[k]] = c;
-      }
-    std::vector<PetscScalar> zeros(A.nonZeros(), 0.0);
-    check(MatCreate(PETSC_COMM_SELF, &matrix_), "MatCreate");
-    check(MatSetSizes(matrix_, n, n, n, n), "MatSetSizes");
-    check(MatSetType(matrix_, MATSEQAIJ), "MatSetType");
-    const int bs = description_.block_size;
-    if (bs > 1 && n % bs == 0) check(MatSetBlockSize(matrix_, bs), "MatSetBlockSize");
-    check(MatSeqAIJSetPreallocationCSR(matrix_, row_start.data(), columns.data(), zeros.data()),
-          "MatSeqAIJSetPreallocationCSR");
+      for (SparseMatrix::InnerIterator it(A, c); it; ++it, ++k)
+        if (it.row() >= first_ && it.row() < last_) {
+          position_[k] = next[it.row() - first_]++;
+          columns[position_[k]] = c;
+        }
+    const PetscInt row_start_end = row_start[m];
+    local_values_.assign(row_start_end, 0.0);
+    check(MatCreate(comm(), &matrix_), "MatCreate");
+    check(MatSetSizes(matrix_, m, m, n, n), "MatSetSizes");
+    check(MatSetType(matrix_, distributed_ ? MATMPIAIJ : MATSEQAIJ), "MatSetType");
+    if (bs > 1) check(MatSetBlockSize(matrix_, bs), "MatSetBlockSize");
+    if (distributed_) {
+      check(MatMPIAIJSetPreallocationCSR(matrix_, row_start.data(), columns.data(), local_values_.data()),
+            "MatMPIAIJSetPreallocationCSR");
+      row_start_ = std::move(row_start);
+      columns_ = std::move(columns);
+    } else {  // values go straight into PETSc's array (do_factorize)
+      check(MatSeqAIJSetPreallocationCSR(matrix_, row_start.data(), columns.data(), local_values_.data()),
+            "MatSeqAIJSetPreallocationCSR");
+      std::vector<PetscScalar>().swap(local_values_);
+    }
     MatInfo info;
     check(MatGetInfo(matrix_, MAT_LOCAL, &info), "MatGetInfo");
-    if (static_cast<Eigen::Index>(info.nz_used) != A.nonZeros())
-      throw SolverError(fmt::format("PETSc kept {} of the matrix's {} entries", info.nz_used, A.nonZeros()));
+    if (static_cast<PetscInt>(info.nz_used) != row_start_end)
+      throw SolverError(fmt::format("PETSc kept {} of the matrix's {} entries", info.nz_used, row_start_end));
     if (bs > 1 && description_.node_coordinates) set_rigid_body_modes(bs);
     check(MatCreateVecs(matrix_, &x_, &b_), "MatCreateVecs");
     make_ksp();
   }
 
   void do_factorize(const SparseMatrix& A) override {
-    PetscScalar* values = nullptr;
-    check(MatSeqAIJGetArray(matrix_, &values), "MatSeqAIJGetArray");
     const double* a = A.valuePtr();
-    for (std::size_t k = 0; k < position_.size(); ++k) values[position_[k]] = a[k];
-    check(MatSeqAIJRestoreArray(matrix_, &values), "MatSeqAIJRestoreArray");
+    if (!distributed_) {
+      PetscScalar* values = nullptr;
+      check(MatSeqAIJGetArray(matrix_, &values), "MatSeqAIJGetArray");
+      for (std::size_t k = 0; k < position_.size(); ++k) values[position_[k]] = a[k];
+      check(MatSeqAIJRestoreArray(matrix_, &values), "MatSeqAIJRestoreArray");
+    } else {  // every rank holds A whole and sets its own rows: no communication
+      for (std::size_t k = 0; k < position_.size(); ++k)
+        if (position_[k] >= 0) local_values_[position_[k]] = a[k];
+      for (PetscInt r = 0; r + first_ < last_; ++r) {
+        const PetscInt row = first_ + r, begin = row_start_[r];
+        check(MatSetValues(matrix_, 1, &row, row_start_[r + 1] - begin, columns_.data() + begin,
+                           local_values_.data() + begin, INSERT_VALUES),
+              "MatSetValues");
+      }
+      check(MatAssemblyBegin(matrix_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+      check(MatAssemblyEnd(matrix_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    }
     check(KSPSetOperators(ksp_, matrix_, matrix_), "KSPSetOperators");
     check(KSPSetUp(ksp_), "setting up the preconditioner (KSPSetUp)");
   }
@@ -154,7 +191,7 @@ class Petsc final : public LinearSolver {
     if (!user_rtol_) check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
     PetscScalar* v = nullptr;
     check(VecGetArray(b_, &v), "VecGetArray");
-    std::copy(b.data(), b.data() + b.size(), v);
+    std::copy(b.data() + first_, b.data() + last_, v);
     check(VecRestoreArray(b_, &v), "VecRestoreArray");
     check(KSPSolve(ksp_, b_, x_), "KSPSolve");
     PetscInt its = 0;
@@ -181,7 +218,7 @@ class Petsc final : public LinearSolver {
     Vector x(b.size());
     const PetscScalar* xv = nullptr;
     check(VecGetArrayRead(x_, &xv), "VecGetArrayRead");
-    std::copy(xv, xv + x.size(), x.data());
+    ranks::all_gather_rows(xv, row_counts_, x.data());  // every rank continues with the whole solution
     check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
     return x;
   }
@@ -193,12 +230,14 @@ class Petsc final : public LinearSolver {
     check(MatGetSize(matrix_, &n, nullptr), "MatGetSize");
     if (xyz.rows() * bs != n || xyz.cols() != bs) return;  // not one row per node: no modes
     ::Vec coords;
-    check(VecCreateSeq(PETSC_COMM_SELF, n, &coords), "VecCreateSeq");
+    check(VecCreate(comm(), &coords), "VecCreate");
+    check(VecSetSizes(coords, last_ - first_, n), "VecSetSizes");
     check(VecSetBlockSize(coords, bs), "VecSetBlockSize");
+    check(VecSetType(coords, VECSTANDARD), "VecSetType");
     PetscScalar* c = nullptr;
     check(VecGetArray(coords, &c), "VecGetArray");
-    for (Eigen::Index node = 0; node < xyz.rows(); ++node)
-      for (int d = 0; d < bs; ++d) c[node * bs + d] = xyz(node, d);
+    for (Eigen::Index node = first_ / bs; node < last_ / bs; ++node)
+      for (int d = 0; d < bs; ++d) c[(node - first_ / bs) * bs + d] = xyz(node, d);
     check(VecRestoreArray(coords, &c), "VecRestoreArray");
     MatNullSpace modes;
     check(MatNullSpaceCreateRigidBody(coords, &modes), "MatNullSpaceCreateRigidBody");
@@ -208,7 +247,7 @@ class Petsc final : public LinearSolver {
   }
 
   void make_ksp() {
-    check(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
+    check(KSPCreate(comm(), &ksp_), "KSPCreate");
     check(KSPSetOptionsPrefix(ksp_, prefix_.c_str()), "KSPSetOptionsPrefix");
     check(KSPSetType(ksp_, kind_ == MatrixKind::General ? KSPGMRES : KSPCG), "KSPSetType");
     if (kind_ == MatrixKind::General) check(KSPGMRESSetRestart(ksp_, 200), "KSPGMRESSetRestart");
@@ -220,6 +259,19 @@ class Petsc final : public LinearSolver {
     check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
     check(KSPSetOperators(ksp_, matrix_, matrix_), "KSPSetOperators");
     check(KSPSetFromOptions(ksp_), "reading linear_solver.options (KSPSetFromOptions)");
+  }
+
+  /// In a distributed run every rank holds the whole system and PETSc splits it: rank r
+  /// owns a contiguous range of whole nodes (bs equations each), as even as can be.
+  MPI_Comm comm() const { return distributed_ ? PETSC_COMM_WORLD : PETSC_COMM_SELF; }
+  void split_rows(PetscInt n, int bs) {
+    const int size = distributed_ ? ranks::size() : 1, rank = distributed_ ? ranks::rank() : 0;
+    const PetscInt nodes = n / bs;
+    row_counts_.assign(size, 0);
+    for (int r = 0; r < size; ++r) row_counts_[r] = static_cast<int>((nodes / size + (r < nodes % size)) * bs);
+    first_ = 0;
+    for (int r = 0; r < rank; ++r) first_ += row_counts_[r];
+    last_ = first_ + row_counts_[rank];
   }
 
   void destroy() {
@@ -237,7 +289,12 @@ class Petsc final : public LinearSolver {
   };
   std::vector<OptionName> names_;
   SystemDescription description_;
-  std::vector<PetscInt> position_;
+  bool distributed_ = ranks::distributed();
+  PetscInt first_ = 0, last_ = 0;              ///< this rank's rows
+  std::vector<int> row_counts_;                ///< every rank's number of rows
+  std::vector<PetscInt> position_;             ///< value k of A -> local_values_ (-1: not this rank's row)
+  std::vector<PetscInt> row_start_, columns_;  ///< this rank's rows (distributed runs)
+  std::vector<PetscScalar> local_values_;
   Mat matrix_ = nullptr;
   KSP ksp_ = nullptr;
   ::Vec x_ = nullptr, b_ = nullptr;

@@ -1,0 +1,58 @@
+#pragma once
+// The MPI ranks of a distributed run (`mpirun -n N gradmpm run ...`, docs/parallel.md)
+// and the few collective operations the driver needs. Without a session (a serial run, a
+// test program, a build without PETSc and MPI) there is one rank and every operation is
+// the identity, so serial code calls them unconditionally.
+//
+// Every rank holds every point (replicated data, stage 1 of issue 14): the ranks split the
+// point loops of Newton (material updates, internal force, tangent) and PETSc splits the
+// linear solves; everything else runs identically on every rank. Sums are reduced to rank
+// 0 and broadcast, so every rank sees the same bits and takes the same branches (a
+// Newton decision never differs between ranks).
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace gradmpm::ranks {
+
+/// Ranks of the session (1 when none is started).
+int size();
+/// This process's rank (0 when none is started).
+int rank();
+inline bool distributed() { return size() > 1; }
+
+/// MPI started for the life of main when this process was launched as one of several
+/// ranks (app/MpiLaunch.hpp); stopped, after the hooks of before_stop(), by the destructor.
+class Session {
+ public:
+  Session(int* argc, char*** argv);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+/// Work to do before MPI stops (PETSc's finalisation, which must precede MPI's).
+void before_stop(std::function<void()> hook);
+
+/// v = the sum over ranks of v, the same bits on every rank.
+void sum(double* v, std::size_t n);
+inline void sum(std::vector<double>& v) { sum(v.data(), v.size()); }
+/// The smallest of the ranks' values, on every rank.
+int min(int value);
+long long max(long long value);
+
+/// Every rank's `mine` concatenated in rank order, on every rank.
+std::vector<double> all_gather(const std::vector<double>& mine);
+/// The ranks' local rows [offset_r, offset_r + count_r) of a vector of sum(counts)
+/// values, gathered on every rank; `counts` known to all.
+void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all);
+
+/// Rank 0's value of a flag or message on every rank (a decision only rank 0 could make:
+/// whether the output folder can be written).
+bool broadcast(bool value);
+std::vector<char> broadcast(std::vector<char> bytes);
+
+/// Stops every rank with `code` (an error that other ranks cannot know of).
+[[noreturn]] void abort(int code);
+
+}  // namespace gradmpm::ranks

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Requirement (issue 14): a run on N MPI ranks gives the serial answer: positions,
+# stresses and state of every point (points_final.csv), the reactions and the gradient
+# fields to 1e-8 of each column's scale.
+#
+#   same_as_serial.sh GRADMPM MPIEXEC RANKS CASE WORKDIR [--set KEY=VALUE ...]
+#
+# The serial run uses the case's solver (CHOLMOD by default); the distributed one PETSc
+# with MUMPS's parallel LU, so the two differ by round-off only, not by a Krylov tolerance.
+set -euo pipefail
+gradmpm=$1 mpiexec=$2 ranks=$3 case=$4 work=$5
+shift 5
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work" && mkdir -p "$work"
+"$gradmpm" run "$case" --out "$work/serial" -q -j1 "$@"
+"$mpiexec" --allow-run-as-root --oversubscribe -n "$ranks" "$gradmpm" run "$case" --out "$work/ranks" -q -j1 "$@" \
+  --set linear_solver.type=petsc \
+  --set 'linear_solver.options=-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps'
+status=0
+for f in points_final.csv reactions.csv points_gradient.csv; do
+  [ -f "$work/serial/$f" ] || continue
+  [ -f "$work/ranks/$f" ] || { echo "$f: written by the serial run only"; status=1; continue; }
+  echo -n "$f: "
+  python3 "$here/compare_csv.py" "$work/serial/$f" "$work/ranks/$f" || status=1
+done
+exit $status
