@@ -67,11 +67,6 @@ int min(int value) {
   return value;
 }
 
-long long max(long long value) {
-  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
-  return value;
-}
-
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
   std::vector<int> offsets(counts.size(), 0);
   std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
@@ -80,22 +75,6 @@ void all_gather_rows(const double* mine, const std::vector<int>& counts, double*
     return;
   }
   MPI_Allgatherv(mine, counts[rank()], MPI_DOUBLE, all, counts.data(), offsets.data(), MPI_DOUBLE, MPI_COMM_WORLD);
-}
-
-std::vector<double> all_gather(const std::vector<double>& mine) {
-  if (size() == 1) return mine;
-  std::vector<int> counts(size());
-  const int n = static_cast<int>(mine.size());
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  std::vector<double> all(std::accumulate(counts.begin(), counts.end(), std::size_t(0)));
-  all_gather_rows(mine.data(), counts, all.data());
-  return all;
-}
-
-bool broadcast(bool value) {
-  int v = value ? 1 : 0;
-  if (size() > 1) MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  return v != 0;
 }
 
 std::vector<char> broadcast(std::vector<char> bytes) {
@@ -120,12 +99,9 @@ Session::~Session() {
 }
 void sum(double*, std::size_t) {}
 int min(int value) { return value; }
-long long max(long long value) { return value; }
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
   std::copy(mine, mine + counts[0], all);
 }
-std::vector<double> all_gather(const std::vector<double>& mine) { return mine; }
-bool broadcast(bool value) { return value; }
 std::vector<char> broadcast(std::vector<char> bytes) { return bytes; }
 void abort(int code) { std::exit(code); }
 

@@ -36,20 +36,15 @@ void before_stop(std::function<void()> hook);
 
 /// v = the sum over ranks of v, the same bits on every rank.
 void sum(double* v, std::size_t n);
-inline void sum(std::vector<double>& v) { sum(v.data(), v.size()); }
 /// The smallest of the ranks' values, on every rank.
 int min(int value);
-long long max(long long value);
 
-/// Every rank's `mine` concatenated in rank order, on every rank.
-std::vector<double> all_gather(const std::vector<double>& mine);
 /// The ranks' local rows [offset_r, offset_r + count_r) of a vector of sum(counts)
 /// values, gathered on every rank; `counts` known to all.
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all);
 
-/// Rank 0's value of a flag or message on every rank (a decision only rank 0 could make:
+/// Rank 0's message on every rank (a decision only rank 0 could make:
 /// whether the output folder can be written).
-bool broadcast(bool value);
 std::vector<char> broadcast(std::vector<char> bytes);
 
 /// Stops every rank with `code` (an error that other ranks cannot know of).
