@@ -7,18 +7,23 @@
 //     cell has the same Jbar, and with F-bar off Jbar stays 1;
 //  R3 with F-bar, Newton still converges quadratically in plastic steps (the strip load);
 //  R4 fbar = true is refused for small-strain laws;
-//  R5 drop_weak_nodes removes a node a point reaches by a sliver, and only such nodes.
+//  R5 drop_weak_nodes removes a node a point reaches by a sliver, and only such nodes;
+//  R6 the rank partition of a distributed run (mpm/PointPartition.hpp) gives every point
+//     to exactly one rank, keeps the points of each F-bar cell on one rank (their
+//     averaged volume change is formed there), and balances the counts to within a cell.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
+#include <map>
 
 #include "MpmTestUtil.hpp"
 #include "PlasticityTestUtil.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/mpm/LoadStep.hpp"
+#include "gradmpm/mpm/PointPartition.hpp"
 
 using namespace gradmpm;
 
@@ -145,4 +150,36 @@ TEST(FBar, WeakNodesAreDroppedAndOnlyThem) {
   pts.add(Vec<1>(1.5), 0.5, 0, Vec<1>(0.25));
   auto st2 = evaluate_stencils(grid, pts, BasisKind::UGIMP);
   EXPECT_EQ(drop_weak_nodes(st2, pts, grid.num_nodes(), 1.0, 1e-8), 0) << "node 2 is strong now";
+}
+
+TEST(FBar, RankPartitionKeepsEachCellOnOneRank) {
+  CaseFile cf = CaseFile::parse(kBlock, "block.toml", {"load_steps.count=2"});
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  run_quasi_static<2>(c.model, c.newton);  // moved points: GIMP stencils of 2 to 3 nodes a side
+  const auto& P = c.model.points;
+  const PointStencils<2> st = evaluate_stencils(c.model.grid, P, c.model.basis);
+  const FBarCells<2> cells(c.model.grid, P, st);
+  const std::vector<int> key = cells.partition_keys();
+  std::map<int, int> group;  // points per key: a cut moves on by less than one group
+  for (int k : key) ++group[k];
+  int largest_group = 0;
+  for (const auto& [k, n] : group) largest_group = std::max(largest_group, n);
+  for (int ranks : {2, 3, 5}) {
+    const PointPartition part = partition_points(key, c.model.grid.num_nodes(), ranks);
+    std::vector<int> rank_of(P.size(), -1);
+    for (int r = 0; r < ranks; ++r)
+      for (const int* p = part.begin(r); p != part.end(r); ++p) {
+        EXPECT_EQ(rank_of[*p], -1) << "point " << *p << " given twice";
+        rank_of[*p] = r;
+      }
+    for (int p = 0; p < P.size(); ++p) EXPECT_GE(rank_of[p], 0) << "point " << p << " given to no rank";
+    for (const auto& m : cells.members())
+      for (int q : m) EXPECT_EQ(rank_of[q], rank_of[m.front()]) << ranks << " ranks: a cell split";
+    int fewest = P.size(), most = 0;
+    for (int r = 0; r < ranks; ++r) fewest = std::min(fewest, part.count(r)), most = std::max(most, part.count(r));
+    std::cout << ranks << " ranks: " << fewest << " to " << most << " points (largest key group " << largest_group
+              << ")\n";
+    EXPECT_LE(most - fewest, 2 * largest_group) << ranks << " ranks";
+    EXPECT_GT(fewest, 0) << ranks << " ranks";
+  }
 }

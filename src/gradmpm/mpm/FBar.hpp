@@ -12,12 +12,15 @@
 //   Q_ij = (1/dim) A_ijmm - (1 - 1/dim) tau_ij,  beta_q = w_q dJ_q / dJbar_c,
 //   W_p = (v_p,n / Jbar_p,n) dJ_p / dJbar_c, G = grad_n N dF^-1,
 // non-symmetric (solved as such) and coupling all nodes of a cell's points.
+#include <algorithm>
 #include <map>
 #include <vector>
 
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/points/Transfer.hpp"
+#include "gradmpm/solver/DofMap.hpp"
+#include "gradmpm/solver/SparsePattern.hpp"
 
 namespace gradmpm {
 
@@ -58,6 +61,22 @@ class FBarCells {
   /// w_p = v_p,n / (the cell's points' volume)
   double weight(int p) const { return weight_[p]; }
 
+  /// Each point's key for partition_points (mpm/PointPartition.hpp): the lowest node of
+  /// its cell's points' stencils, so that a cell's points share a rank.
+  std::vector<int> partition_keys() const {
+    std::vector<int> key(cell_.size());
+    for (std::size_t p = 0; p < cell_.size(); ++p) key[p] = nodes_[cell_[p]].front();
+    return key;
+  }
+  /// The cells of the points [first, last), in increasing order.
+  std::vector<int> cells_of(const int* first, const int* last) const {
+    std::vector<int> cells;
+    for (const int* p = first; p != last; ++p) cells.push_back(cell_[*p]);
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    return cells;
+  }
+
   /// dJbar of each point's cell from every point's dJ.
   void average(const std::vector<double>& dJ, std::vector<double>& dJbar) const {
     dJbar.resize(dJ.size());
@@ -65,6 +84,42 @@ class FBarCells {
       double s = 0.0;
       for (int q : m) s += weight_[q] * dJ[q];
       for (int q : m) dJbar[q] = s;
+    }
+  }
+
+  /// The cell coupling of the tangent for `cells`: K += U_c V_c^T per cell,
+  /// U_c(a i) = sum_p W_p G_pa,j Q_p,ij, V_c(b k) = sum_q beta_q G_qb,k over the cell's
+  /// points, beta_q = w_q dJ_q / dJbar; G, W and Q of the cells' points (grads, weights, Q).
+  template <class Gradients>
+  void add_coupling(SparseMatrix& K, const std::vector<int>& cells, const PointStencils<dim>& st, const DofMap& dofs,
+                    const Gradients& grads, const std::vector<double>& weights, const std::vector<Mat3>& Q,
+                    const std::vector<double>& dJ, const std::vector<double>& dJbar) const {
+    double* values = K.valuePtr();
+    for (const int c : cells) {
+      const auto& nodes = nodes_[c];
+      const int nn = static_cast<int>(nodes.size());
+      Eigen::VectorXd U = Eigen::VectorXd::Zero(nn * dim), V = Eigen::VectorXd::Zero(nn * dim);
+      for (int q : members_[c]) {
+        const Stencil<dim>& s = st[q];
+        const double beta = weight_[q] * dJ[q] / dJbar[q];
+        for (int a = 0; a < s.count; ++a) {
+          const int at = static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), s.node[a]) - nodes.begin());
+          for (int i = 0; i < dim; ++i) {
+            double u = 0.0;
+            for (int j = 0; j < dim; ++j) u += grads[q][a][j] * Q[q](i, j);
+            U[at * dim + i] += weights[q] * u;
+            V[at * dim + i] += beta * grads[q][a][i];
+          }
+        }
+      }
+      for (int b = 0; b < nn; ++b)
+        for (int k = 0; k < dim; ++k) {
+          const int col = dofs.dof(nodes[b], k);
+          for (int a = 0; a < nn; ++a) {
+            const int k0 = pattern_offset(K, dofs.dof(nodes[a], 0), col);
+            for (int i = 0; i < dim; ++i) values[k0 + i] += U[a * dim + i] * V[b * dim + k];
+          }
+        }
     }
   }
 

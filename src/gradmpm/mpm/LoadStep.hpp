@@ -39,10 +39,12 @@ class LoadStep {
   LoadStep(const Model<dim>& m, double lambda_end, double dlambda)
       : model_(m),
         st_(stencils(m)),
-        split_(ranks::distributed() && !m.fbar),
-        part_(partition_points(st_, m.grid.num_nodes(), split_ ? ranks::size() : 1)),
-        dofs_(st_, m.grid.num_nodes(), dim),
+        split_(ranks::distributed()),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
+        part_(split_ ? partition_points(fbar_ ? fbar_->partition_keys() : lowest_stencil_nodes(st_, m.grid.num_nodes()),
+                                        m.grid.num_nodes(), ranks::size())
+                     : every_point(m.points.size())),
+        dofs_(st_, m.grid.num_nodes(), dim),
         ghost_(m.ghost_penalty > 0.0
                    ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty)
                    : nullptr),
@@ -63,6 +65,8 @@ class LoadStep {
       increments_.push_back(value);
     }
     f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
+    if (fbar_)
+      my_cells_ = fbar_->cells_of(part_.begin(split_ ? ranks::rank() : 0), part_.end(split_ ? ranks::rank() : 0));
   }
 
   const DofMap& dofs() const { return dofs_; }
@@ -203,15 +207,17 @@ class LoadStep {
           }
         },
         symmetric);
+    if (fbar_) fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
     if (split_) ranks::sum(K.valuePtr(), K.nonZeros());  // every rank holds the whole K
-    if (fbar_) add_fbar_coupling(K);
     if (ghost_) ghost_->add_matrix(dofs_, K);
     if (contact_) contact_->add_matrix(K);
   }
 
-  /// Eq. (2): maps the converged increment to the points and updates their state.
-  void commit(Model<dim>& m, const Vector& du) const {
+  /// Eq. (2): maps the converged increment to the points and updates their state. (A
+  /// distributed F-bar run first finds every cell's dJbar: each rank made its own cells'.)
+  void commit(Model<dim>& m, const Vector& du) {
     auto& pts = m.points;
+    if (fbar_ && split_) volume_changes(du, part_.order.data(), pts.size());
     pts.state = trial_state_;  // the material histories of the converged iterate
     for (int p = 0; p < pts.size(); ++p) {
       Vec<dim> dx;
@@ -304,20 +310,17 @@ class LoadStep {
   /// update with dFbar, gradients of the actual dF, weights (v_n / Jbar_n) dJ / dJbar.
   void internal_force_fbar(const Vector& du, Vector& f_int) {
     const auto& pts = model_.points;
-    const int np = pts.size();
+    const int np = pts.size(), rank = split_ ? ranks::rank() : 0, mine = part_.count(rank);
+    const int* my_points = part_.begin(rank);
     f_int = Vector::Zero(dofs_.num_dofs());
     grads_.resize(np);
     weights_.resize(np);
-    fbar_dF_.resize(np);
-    fbar_dJ_.resize(np);
-    for (int p = 0; p < np; ++p) {
-      fbar_dF_[p] = Mat3::Identity() + increment_gradient(st_[p], dofs_, du);
-      fbar_dJ_[p] = fbar_dF_[p].determinant();
-      if (!(fbar_dJ_[p] > 0.0)) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", p, fbar_dJ_[p])};
-    }
-    fbar_->average(fbar_dJ_, fbar_dJbar_);
-#pragma omp parallel for schedule(static) if (use_threads(np))
-    for (int p = 0; p < np; ++p) {
+    auto [inverted, det] = volume_changes(du, my_points, mine);
+    if (split_) inverted = ranks::min(inverted);  // every rank fails, or none
+    if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
+#pragma omp parallel for schedule(static) if (use_threads(mine))
+    for (int k = 0; k < mine; ++k) {
+      const int p = my_points[k];
       const Stencil<dim>& s = st_[p];
       model_.material_of(p).update(material_increment(p, fbar_dF_[p]), pts.state_of(p),
                                    trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
@@ -334,51 +337,37 @@ class LoadStep {
     scatter_internal_force(du, f_int);
   }
 
+  /// F-bar: dF and dJ of `count` points and dJbar of their cells; the lowest inverted
+  /// point (the number of points if none) and its dJ.
+  std::pair<int, double> volume_changes(const Vector& du, const int* points, int count) {
+    const int np = model_.points.size();
+    fbar_dF_.resize(np);
+    fbar_dJ_.resize(np);
+    int inverted = np;
+    for (int k = 0; k < count; ++k) {
+      const int p = points[k];
+      fbar_dF_[p] = Mat3::Identity() + increment_gradient(st_[p], dofs_, du);
+      fbar_dJ_[p] = fbar_dF_[p].determinant();
+      if (!(fbar_dJ_[p] > 0.0)) inverted = std::min(inverted, p);
+    }
+    fbar_->average(fbar_dJ_, fbar_dJbar_);  // cells of other ranks' points: not read
+    return {inverted, inverted < np ? fbar_dJ_[inverted] : 0.0};
+  }
+
   /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in the plane.
   Mat3 material_increment(int p, Mat3 dF) const {
     if (fbar_) dF.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
     return dF;
   }
 
-  /// The cell coupling of F-bar: K += U_c V_c^T per cell, U_c(a i) = sum_p W_p G_pa,j Q_p,ij,
-  /// V_c(b k) = sum_q beta_q G_qb,k over the cell's points, beta_q = w_q dJ_q / dJbar.
-  void add_fbar_coupling(SparseMatrix& K) const {
-    double* values = K.valuePtr();
-    for (std::size_t c = 0; c < fbar_->members().size(); ++c) {
-      const auto& nodes = fbar_->nodes()[c];
-      const int nn = static_cast<int>(nodes.size());
-      Eigen::VectorXd U = Eigen::VectorXd::Zero(nn * dim), V = Eigen::VectorXd::Zero(nn * dim);
-      for (int q : fbar_->members()[c]) {
-        const Stencil<dim>& s = st_[q];
-        const double beta = fbar_->weight(q) * fbar_dJ_[q] / fbar_dJbar_[q];
-        for (int a = 0; a < s.count; ++a) {
-          const int at = static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), s.node[a]) - nodes.begin());
-          for (int i = 0; i < dim; ++i) {
-            double u = 0.0;
-            for (int j = 0; j < dim; ++j) u += grads_[q][a][j] * fbar_q_[q](i, j);
-            U[at * dim + i] += weights_[q] * u;
-            V[at * dim + i] += beta * grads_[q][a][i];
-          }
-        }
-      }
-      for (int b = 0; b < nn; ++b)
-        for (int k = 0; k < dim; ++k) {
-          const int col = dofs_.dof(nodes[b], k);
-          for (int a = 0; a < nn; ++a) {
-            const int k0 = pattern_offset(K, dofs_.dof(nodes[a], 0), col);
-            for (int i = 0; i < dim; ++i) values[k0 + i] += U[a * dim + i] * V[b * dim + k];
-          }
-        }
-    }
-  }
-
   const Model<dim>& model_;
   PointStencils<dim> st_;
-  bool split_;           ///< distributed: each rank updates its own points (not yet with F-bar)
+  bool split_;  ///< distributed: each rank updates its own points
+  std::unique_ptr<FBarCells<dim>> fbar_;
   PointPartition part_;  ///< the points of each rank (one run of every point when not split)
   DofMap dofs_;
-  std::unique_ptr<FBarCells<dim>> fbar_;
-  std::unique_ptr<GhostFaces<dim>> ghost_;      ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
+  std::vector<int> my_cells_;               ///< F-bar: the cells of this rank's points (all of their points are its)
+  std::unique_ptr<GhostFaces<dim>> ghost_;  ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
   std::unique_ptr<RigidContact<dim>> contact_;  ///< rigid boxes' contacts (mpm/RigidContact.hpp); null without
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;

@@ -1,11 +1,14 @@
 #pragma once
 // Which rank does which points' work in a load step's Newton loops (a distributed run,
-// core/Ranks.hpp). The points are ordered by the lowest grid node of their stencil
-// (nodes are numbered x fastest, so this orders them by the grid's slowest axis first)
-// and cut into runs of nearly equal count, one per rank: slabs of the body across its
-// longest direction in the usual layout, balanced by points rather than by cells. Every
-// rank computes the same partition from the same stencils. It is made again every load
-// step, so points that move into another slab change rank with the step.
+// core/Ranks.hpp). Each point has a key, a grid node: by default the lowest node of its
+// stencil; with F-bar the lowest node of its cell's points' stencils, so that a cell's
+// points, coupled through their averaged volume change, share one rank. Nodes are numbered
+// x fastest, so ordering the points by key orders them by the grid's slowest axis first;
+// they are cut into runs of nearly equal count, one per rank, at key boundaries only:
+// slabs of the body across its longest direction in the usual layout, balanced by points
+// rather than by cells. Every rank computes the same partition from the same stencils. It
+// is made again every load step, so points that move into another slab change rank with
+// the step.
 #include <algorithm>
 #include <vector>
 
@@ -23,29 +26,46 @@ struct PointPartition {
   const int* end(int r) const { return order.data() + start[r + 1]; }
 };
 
-template <int dim>
-PointPartition partition_points(const PointStencils<dim>& st, int num_nodes, int ranks) {
-  const int np = static_cast<int>(st.size());
+/// A serial run's partition: every point, in index order, on rank 0.
+inline PointPartition every_point(int np) {
   PointPartition part;
-  if (ranks == 1) {  // a serial run: every point, in index order
-    part.order.resize(np);
-    for (int p = 0; p < np; ++p) part.order[p] = p;
-    part.start = {0, np};
-    return part;
-  }
-  // A counting sort by the lowest stencil node; points of one node keep index order.
-  std::vector<int> key(np), first(num_nodes + 1, 0);
-  for (int p = 0; p < np; ++p) {
+  part.order.resize(np);
+  for (int p = 0; p < np; ++p) part.order[p] = p;
+  part.start = {0, np};
+  return part;
+}
+
+/// The default key of every point: the lowest node of its stencil.
+template <int dim>
+std::vector<int> lowest_stencil_nodes(const PointStencils<dim>& st, int num_nodes) {
+  std::vector<int> key(st.size());
+  for (std::size_t p = 0; p < st.size(); ++p) {
     int lowest = num_nodes - 1;
     for (int a = 0; a < st[p].count; ++a) lowest = std::min(lowest, st[p].node[a]);
     key[p] = lowest;
-    ++first[lowest + 1];
   }
-  for (int n = 0; n < num_nodes; ++n) first[n + 1] += first[n];
+  return key;
+}
+
+/// The points cut into `ranks` runs by `key` (one grid node per point, < num_nodes); the
+/// points of one key always share a rank.
+inline PointPartition partition_points(const std::vector<int>& key, int num_nodes, int ranks) {
+  const int np = static_cast<int>(key.size());
+  if (ranks == 1) return every_point(np);
+  PointPartition part;
   part.order.resize(np);
+  // A counting sort by key; points of one key keep index order.
+  std::vector<int> first(num_nodes + 1, 0);
+  for (int p = 0; p < np; ++p) ++first[key[p] + 1];
+  for (int n = 0; n < num_nodes; ++n) first[n + 1] += first[n];
   for (int p = 0; p < np; ++p) part.order[first[key[p]]++] = p;
-  part.start.resize(ranks + 1);
-  for (int r = 0; r <= ranks; ++r) part.start[r] = static_cast<int>(static_cast<long long>(np) * r / ranks);
+  part.start.assign(ranks + 1, np);
+  part.start[0] = 0;
+  for (int r = 1; r < ranks; ++r) {  // the even cut, moved on past the rest of its key
+    int cut = std::max(part.start[r - 1], static_cast<int>(static_cast<long long>(np) * r / ranks));
+    while (cut > 0 && cut < np && key[part.order[cut]] == key[part.order[cut - 1]]) ++cut;
+    part.start[r] = cut;
+  }
   return part;
 }
 
