@@ -2,6 +2,7 @@
 // problem grows (docs/performance.md). Never part of the tests.
 //
 //   build/bench/bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--options S]
+//   mpirun -n R build/bench/bench_mpm ... --solver petsc   (R ranks, docs/parallel.md)
 //   (--solver: the case files' linear_solver.type, cholmod by default; with
 //   pcg, factor_s is the incomplete-Cholesky preconditioner and solve_s the CG iterations;
 //   with petsc, factor_s is the preconditioner's set-up (GAMG) and solve_s the Krylov
@@ -33,6 +34,10 @@
 // ratio = (wall - factor - solve) / (factor + solve): everything that is not the numeric
 // factorisation and solve, against them (before issue 13's last session: the phases
 // pattern + assembly + analysis + update only, which left the uncounted work out).
+// Under mpirun (R ranks, the `ranks` column) the figures are rank 0's: its phases include
+// its waits in the sums over the ranks, so they show the slowest rank's pace; peak_mib is
+// rank 0's process (every rank holds the whole model today). Only rank 0 prints and
+// writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
 // "with gradient" adds a gradient step after the load step (apply = "each_step"), shared
 // out over the step's iterations, its factorisation and solves counted with the solver's.
 // nonlocal_s is the regularisation's own work per Newton iteration (the kappa_bar
@@ -47,10 +52,13 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "gradmpm/app/MpiLaunch.hpp"
 #include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Timer.hpp"
 
 using namespace gradmpm;
@@ -153,11 +161,13 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   const std::string& solver = m.symmetric_tangent() ? newton.linear_solver.type : newton.linear_solver.general;
   const double krylov = t.krylov / its;
   const std::string row = fmt::format(
-      "{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f},{:.6f},{},{},{:.1f},{:.6f}", name, dim,
-      step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
-      gradient_s, peak_mib(), nonlocal, step.staggers, solver, krylov, wall);
+      "{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f},{:.6f},{},{},{:.1f},{:.6f},{}", name,
+      dim, step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
+      gradient_s, peak_mib(), nonlocal, step.staggers, solver, krylov, wall, ranks::size());
+  if (ranks::rank() != 0) return;
   csv << row << "\n";
   csv.flush();
+  if (ranks::distributed()) fmt::print("{:<11} {} ranks\n", name, ranks::size());
   fmt::print(
       "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  "
       "analysis {:.4f}  factor {:.4f}  solve {:.4f}{}  update {:.4f}  wall {:.4f}  gradient {:.4f} (solver {:.4f})  "
@@ -174,6 +184,10 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Under mpirun: an MPI session for the run (PETSc then splits the solves, the driver the
+  // point loops), rank 0 reporting.
+  std::optional<ranks::Session> session;
+  if (mpi_launch_from_environment().size > 1) session.emplace(&argc, &argv);
   bool quick = false;
   int threads = omp_get_max_threads();
   std::string csv_path = "bench-results.csv";
@@ -202,14 +216,16 @@ int main(int argc, char** argv) {
     }
   }
   omp_set_num_threads(threads);
-  std::ofstream csv(csv_path);
+  std::ofstream csv(ranks::rank() == 0 ? csv_path : "/dev/null");
   if (!csv) {
     fmt::print(stderr, "bench_mpm: cannot write {}\n", csv_path);
     return 2;
   }
   csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_"
-         "mib,nonlocal_s,staggers,solver,krylov_its,wall_s\n";
-  fmt::print("bench_mpm: {} thread(s), {} sweep; seconds per Newton iteration\n", threads, quick ? "quick" : "full");
+         "mib,nonlocal_s,staggers,solver,krylov_its,wall_s,ranks\n";
+  if (ranks::rank() == 0)
+    fmt::print("bench_mpm: {} rank(s), {} thread(s) each, {} sweep; seconds per Newton iteration\n", ranks::size(),
+               threads, quick ? "quick" : "full");
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
   std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};
@@ -295,5 +311,5 @@ int main(int argc, char** argv) {
       fmt::print("biaxial_2d_classical r = {}: {}\n", r, e.what());
     }
   }
-  fmt::print("wrote {}\n", csv_path);
+  if (ranks::rank() == 0) fmt::print("wrote {}\n", csv_path);
 }

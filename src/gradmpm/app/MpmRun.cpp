@@ -19,6 +19,7 @@
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/app/PointColumns.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
 #include "gradmpm/io/Python.hpp"
@@ -184,8 +185,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   };
   if (!quiet)
     fmt::print(
-        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {} thread(s) (OpenMP {})\n",
-        dim, m.points.size(), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps, omp_get_max_threads(),
+        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {})\n",
+        dim, m.points.size(), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
+        ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"));
   // Everything the outputs accumulate from step to step, for a checkpoint.
