@@ -171,7 +171,10 @@ class LoadStep {
   /// The tangent K at the state of the last internal_force(): each point's material
   /// tangent is formed inside the (coloured, threaded) scatter-add, never stored. With a
   /// symmetric tangent (A_ijkl = A_klij) only the blocks b <= a are formed and mirrored.
-  void stiffness(SparseMatrix& K) {
+  /// In a distributed run K is summed over the ranks, or with `share` left as this rank's
+  /// share for the solver to add up (the grid's own terms, ghost faces and contacts, in
+  /// rank 0's share).
+  void stiffness(SparseMatrix& K, bool share = false) {
     if (&K == last_stiffness_ && K.nonZeros() == pattern_.nonZeros() && K.rows() == pattern_.rows())
       std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);  // the pattern is there: no copy
     else
@@ -208,7 +211,8 @@ class LoadStep {
         },
         symmetric);
     if (fbar_) fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
-    if (split_) ranks::sum(K.valuePtr(), K.nonZeros());  // every rank holds the whole K
+    if (split_ && !share) ranks::sum(K.valuePtr(), K.nonZeros());  // every rank holds the whole K
+    if (share && ranks::rank() != 0) return;
     if (ghost_) ghost_->add_matrix(dofs_, K);
     if (contact_) contact_->add_matrix(K);
   }

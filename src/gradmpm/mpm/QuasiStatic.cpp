@@ -29,11 +29,12 @@ using detail::StepFailure;
 struct StepSolvers {
   std::unique_ptr<LinearSolver> main, general;  ///< general: made when a tangent is not positive definite
   bool analysed = false;                        ///< for this step's pattern
+  bool general_analysed = false;                ///< general's analysis, for this step's pattern
   bool described = false;                       ///< describe() called with this step
   std::vector<int> outer, inner;                ///< the pattern main's analysis was made for
 
   /// A new load step (or a new attempt of one).
-  void start_step() { analysed = described = false; }
+  void start_step() { analysed = described = general_analysed = false; }
   /// After a failed attempt nothing is kept: the factor may be in any state.
   void forget() { *this = StepSolvers{}; }
   /// Whether main's analysis was made for A's pattern (remembered only for direct solvers:
@@ -87,8 +88,12 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
     solvers.main = make_linear_solver(settings.linear_solver, kind);
   }
+  // A distributed run's tangent goes to the solver as each rank's share (its points'
+  // terms), which the solver adds up by rows (PETSc): no sum of the whole matrix.
+  const bool share = solvers.main->adds_shares();
+  const SystemDescription description{dim, [&] { return step.node_coordinates(); }, share};
   if (!solvers.described) {
-    solvers.main->describe({dim, [&] { return step.node_coordinates(); }});
+    solvers.main->describe(description);
     solvers.described = true;
   }
   LinearSolver* solver = solvers.main.get();
@@ -151,10 +156,10 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     if (it >= 2 && err > 1e6 * std::max(residuals.front(), settings.tolerance))
       throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
     t0 = Clock::now();
-    step.stiffness(K);  // only when another iteration follows
+    step.stiffness(K, share);  // only when another iteration follows
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
-    bc.apply_to_matrix(K, step.constrained());
+    bc.apply_to_matrix(K, step.constrained(), share);
     const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
     bc.apply_to_rhs(r, prescribed);
     const auto correction = [&](const Vector& d) {
@@ -194,7 +199,15 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
         if (solver->general()) throw;
         t0 = Clock::now();
         if (!general) general = make_linear_solver(settings.linear_solver, MatrixKind::General);
-        general->compute(K);
+        if (share && !general->adds_shares())
+          throw SolverError(
+              fmt::format("linear_solver.general = \"{}\" cannot solve a distributed run's tangent", general->name()));
+        if (!solvers.general_analysed) {  // this step's pattern (a later step's may differ)
+          general->describe(description);
+          general->analyze(K);
+          solvers.general_analysed = true;
+        }
+        general->factorize(K);
         du += correction(general->solve(r));
         times.factor += seconds_since(t0);
         ++info.indefinite_solves;

@@ -4,10 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "gradmpm/core/Ranks.hpp"
+
 namespace gradmpm {
 
-void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs) {
+void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share) {
   dofs_ = dofs;
+  share_ = share;
   removed_.clear();
   std::vector<int> index(A.rows(), -1);  // constraint number of each dof, or -1
   for (std::size_t k = 0; k < dofs.size(); ++k) {
@@ -16,15 +19,17 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
   }
   // Constrained equations get the largest diagonal of A: the scale of the system, so the
   // factorisation sees no tiny or negative pivot there whatever the row held before.
-  double scale = 0.0;
+  Vector diagonal = Vector::Zero(A.rows());
   const int* inner = A.innerIndexPtr();
   for (int col = 0; col < A.outerSize(); ++col) {  // the diagonal by binary search in each column
     const int* begin = inner + A.outerIndexPtr()[col];
     const int* end =
         inner + (A.isCompressed() ? A.outerIndexPtr()[col + 1] : A.outerIndexPtr()[col] + A.innerNonZeroPtr()[col]);
     const int* d = std::lower_bound(begin, end, col);
-    if (d != end && *d == col) scale = std::max(scale, std::abs(A.valuePtr()[d - inner]));
+    if (d != end && *d == col) diagonal[col] = A.valuePtr()[d - inner];
   }
+  if (share) ranks::sum(diagonal.data(), diagonal.size());  // the diagonal of the summed matrix
+  double scale = diagonal.size() > 0 ? diagonal.cwiseAbs().maxCoeff() : 0.0;
   if (!(scale > 0.0)) scale = 1.0;
   scale_ = scale;
   for (int col = 0; col < A.outerSize(); ++col) {
@@ -33,7 +38,7 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
       const int kc = index[col], kr = index[row];
       if (kc < 0 && kr < 0) continue;
       if (row == col) {
-        it.valueRef() = scale;
+        it.valueRef() = !share || ranks::rank() == 0 ? scale : 0.0;
         continue;
       }
       if (kc >= 0 && kr < 0) removed_.push_back({row, kc, it.value()});
@@ -44,7 +49,18 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
 
 void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& values) const {
   if (values.size() != dofs_.size()) throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
-  for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
+  if (share_) {  // each rank's share of A_ic g_c, summed (every rank takes the same branch)
+    if (std::all_of(values.begin(), values.end(), [](double v) { return v == 0.0; })) {
+      for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = 0.0;
+      return;
+    }
+    Vector lift = Vector::Zero(b.size());
+    for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
+    ranks::sum(lift.data(), lift.size());
+    b -= lift;
+  } else {
+    for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
+  }
   for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = scale_ * values[k];
 }
 

@@ -12,8 +12,11 @@ namespace gradmpm {
 
 class DirichletElimination {
  public:
-  /// Eliminates `dofs` from A in place. A keeps its pattern and stays SPD.
-  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs);
+  /// Eliminates `dofs` from A in place. A keeps its pattern and stays SPD. `share`: A is
+  /// this rank's share of a distributed run's matrix (the ranks' shares add up to it):
+  /// the scale is the summed matrix's, rank 0's share holds the constrained diagonal, and
+  /// the lift of a right-hand side is summed over the ranks.
+  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share = false);
 
   /// Lifts b for the prescribed `values` (same order as the dofs given above).
   void apply_to_rhs(Vector& b, const std::vector<double>& values) const;
@@ -34,6 +37,7 @@ class DirichletElimination {
   };
   std::vector<int> dofs_;
   double scale_ = 1.0;          ///< the diagonal given to constrained equations
+  bool share_ = false;          ///< A was a rank's share (apply_to_matrix)
   std::vector<Entry> removed_;  ///< A_ic for free rows i and constrained columns c
 };
 

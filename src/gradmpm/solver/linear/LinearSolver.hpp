@@ -28,6 +28,10 @@ struct SystemDescription {
   /// One row per node of the system, in equation order: x, y, z (dim columns). Computed
   /// only when called; empty function: not known.
   std::function<Eigen::MatrixXd()> node_coordinates;
+  /// A distributed run's Newton tangent: each rank passes its share of the matrix (its
+  /// points' contributions, zero elsewhere) and the solver adds the shares up. Only a
+  /// solver that adds_shares() may be told so.
+  bool shares = false;
 };
 
 class LinearSolver {
@@ -44,6 +48,9 @@ class LinearSolver {
   virtual bool iterative() const { return false; }
   /// The relative residual the next solves must reach. Default: ignored (direct solvers).
   virtual void set_relative_tolerance(double) {}
+  /// Whether it can be given each rank's share of a matrix (SystemDescription::shares):
+  /// PETSc in a distributed run, which sends each entry to the rank owning its row.
+  virtual bool adds_shares() const { return false; }
   /// Krylov iterations so far, over all solves (0 for direct solvers).
   virtual long iterations() const { return 0; }
 

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <petscksp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <sstream>
@@ -98,6 +99,7 @@ class Petsc final : public LinearSolver {
   std::string name() const override { return "petsc"; }
   bool general() const override { return kind_ == MatrixKind::General; }
   bool iterative() const override { return true; }
+  bool adds_shares() const override { return distributed_; }
   void describe(const SystemDescription& d) override { description_ = d; }
   void set_relative_tolerance(double rtol) override {
     if (!user_rtol_) rtol_ = rtol;
@@ -123,8 +125,8 @@ class Petsc final : public LinearSolver {
     split_rows(n, bs);
     const PetscInt m = last_ - first_;  // the rows this rank owns: [first_, last_)
     // Compressed rows (this rank's) from Eigen's compressed columns; `position_[k]`: where
-    // the k-th stored value of A goes (-1: a row of another rank), so that a
-    // refactorisation only copies values.
+    // the k-th stored value of A goes (-1: a row of another rank; with shares, -1 - its
+    // place among the other ranks' rows), so that a refactorisation only copies values.
     std::vector<PetscInt> row_start(m + 1, 0);
     for (int c = 0; c < A.outerSize(); ++c)
       for (SparseMatrix::InnerIterator it(A, c); it; ++it)
@@ -139,6 +141,7 @@ class Petsc final : public LinearSolver {
           position_[k] = next[it.row() - first_]++;
           columns[position_[k]] = c;
         }
+    if (description_.shares) share_other_rows(A, n);
     const PetscInt row_start_end = row_start[m];
     local_values_.assign(row_start_end, 0.0);
     check(MatCreate(comm(), &matrix_), "MatCreate");
@@ -171,13 +174,26 @@ class Petsc final : public LinearSolver {
       check(MatSeqAIJGetArray(matrix_, &values), "MatSeqAIJGetArray");
       for (std::size_t k = 0; k < position_.size(); ++k) values[position_[k]] = a[k];
       check(MatSeqAIJRestoreArray(matrix_, &values), "MatSeqAIJRestoreArray");
-    } else {  // every rank holds A whole and sets its own rows: no communication
+    } else if (!description_.shares) {  // every rank holds A whole and sets its own rows: no communication
       for (std::size_t k = 0; k < position_.size(); ++k)
         if (position_[k] >= 0) local_values_[position_[k]] = a[k];
-      for (PetscInt r = 0; r + first_ < last_; ++r) {
-        const PetscInt row = first_ + r, begin = row_start_[r];
-        check(MatSetValues(matrix_, 1, &row, row_start_[r + 1] - begin, columns_.data() + begin,
-                           local_values_.data() + begin, INSERT_VALUES),
+      set_own_rows(INSERT_VALUES);
+      check(MatAssemblyBegin(matrix_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+      check(MatAssemblyEnd(matrix_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    } else {  // A is this rank's share: its own rows added, the others' sent to their owners
+      for (std::size_t k = 0; k < position_.size(); ++k) {
+        if (position_[k] >= 0)
+          local_values_[position_[k]] = a[k];
+        else
+          other_values_[-1 - position_[k]] = a[k];
+      }
+      check(MatZeroEntries(matrix_), "MatZeroEntries");
+      set_own_rows(ADD_VALUES);
+      for (std::size_t r = 0; r < other_rows_.size(); ++r) {
+        const PetscInt begin = other_start_[r], count = other_start_[r + 1] - begin;
+        const PetscScalar* v = other_values_.data() + begin;
+        if (std::all_of(v, v + count, [](PetscScalar x) { return x == 0.0; })) continue;  // not touched here
+        check(MatSetValues(matrix_, 1, &other_rows_[r], count, other_columns_.data() + begin, v, ADD_VALUES),
               "MatSetValues");
       }
       check(MatAssemblyBegin(matrix_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
@@ -224,6 +240,44 @@ class Petsc final : public LinearSolver {
   }
 
  private:
+  void set_own_rows(InsertMode mode) {
+    for (PetscInt r = 0; r + first_ < last_; ++r) {
+      const PetscInt row = first_ + r, begin = row_start_[r];
+      check(MatSetValues(matrix_, 1, &row, row_start_[r + 1] - begin, columns_.data() + begin,
+                         local_values_.data() + begin, mode),
+            "MatSetValues");
+    }
+  }
+
+  /// With shares: the entries of A in other ranks' rows, as compressed rows, and their
+  /// places in position_ (-1 - k for the k-th).
+  void share_other_rows(const SparseMatrix& A, PetscInt n) {
+    std::vector<PetscInt> count(n, 0);
+    for (int c = 0; c < A.outerSize(); ++c)
+      for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+        if (it.row() < first_ || it.row() >= last_) ++count[it.row()];
+    std::vector<PetscInt> slot(n, -1);  // row -> its place in other_rows_
+    other_rows_.clear();
+    other_start_.assign(1, 0);
+    for (PetscInt row = 0; row < n; ++row)
+      if (count[row] > 0) {
+        slot[row] = static_cast<PetscInt>(other_rows_.size());
+        other_rows_.push_back(row);
+        other_start_.push_back(other_start_.back() + count[row]);
+      }
+    std::vector<PetscInt> next(other_start_.begin(), other_start_.end() - 1);
+    other_columns_.resize(other_start_.back());
+    other_values_.assign(other_start_.back(), 0.0);
+    Eigen::Index k = 0;
+    for (int c = 0; c < A.outerSize(); ++c)
+      for (SparseMatrix::InnerIterator it(A, c); it; ++it, ++k)
+        if (it.row() < first_ || it.row() >= last_) {
+          const PetscInt at = next[slot[it.row()]]++;
+          other_columns_[at] = c;
+          position_[k] = -1 - at;
+        }
+  }
+
   void set_rigid_body_modes(int bs) {
     const Eigen::MatrixXd xyz = description_.node_coordinates();
     PetscInt n = 0;
@@ -295,6 +349,9 @@ class Petsc final : public LinearSolver {
   std::vector<PetscInt> position_;             ///< value k of A -> local_values_ (-1: not this rank's row)
   std::vector<PetscInt> row_start_, columns_;  ///< this rank's rows (distributed runs)
   std::vector<PetscScalar> local_values_;
+  /// With shares: other ranks' rows this rank's share may touch (compressed rows).
+  std::vector<PetscInt> other_rows_, other_start_, other_columns_;
+  std::vector<PetscScalar> other_values_;
   Mat matrix_ = nullptr;
   KSP ksp_ = nullptr;
   ::Vec x_ = nullptr, b_ = nullptr;
