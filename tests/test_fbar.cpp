@@ -10,7 +10,10 @@
 //  R5 drop_weak_nodes removes a node a point reaches by a sliver, and only such nodes;
 //  R6 the rank partition of a distributed run (mpm/PointPartition.hpp) gives every point
 //     to exactly one rank, keeps the points of each F-bar cell on one rank (their
-//     averaged volume change is formed there), and balances the counts to within a cell.
+//     averaged volume change is formed there), and balances the counts to within a cell;
+//     and in the rigid footing the MPI tests run (examples/footing_rigid_2d.toml to
+//     s/B = 0.09 on 2 and 3 ranks) points do change rank during the run, so those tests
+//     cover points crossing rank boundaries.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -182,4 +185,48 @@ TEST(FBar, RankPartitionKeepsEachCellOnOneRank) {
     EXPECT_LE(most - fewest, 2 * largest_group) << ranks << " ranks";
     EXPECT_GT(fewest, 0) << ranks << " ranks";
   }
+}
+
+/// How often a point's rank (the partition LoadStep makes each step on 2 and 3 ranks)
+/// changes from one load step to the next over a run of `file`.
+std::array<int, 2> rank_changes(const std::string& file, const std::vector<std::string>& sets) {
+  CaseFile cf = CaseFile::load(std::string(GRADMPM_SOURCE_DIR) + file, sets);
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  auto ranks_of = [&](int ranks) {
+    PointStencils<2> st = evaluate_stencils(c.model.grid, c.model.points, c.model.basis);
+    if (c.model.fbar)
+      drop_weak_nodes(st, c.model.points, c.model.grid.num_nodes(), c.model.grid.cell_size().prod(), 1e-8);
+    const FBarCells<2> cells(c.model.grid, c.model.points, st);
+    const PointPartition part =
+        partition_points(c.model.fbar ? cells.partition_keys() : lowest_stencil_nodes(st, c.model.grid.num_nodes()),
+                         c.model.grid.num_nodes(), ranks);
+    std::vector<int> rank_of(c.model.points.size());
+    for (int r = 0; r < ranks; ++r)
+      for (const int* p = part.begin(r); p != part.end(r); ++p) rank_of[*p] = r;
+    return rank_of;
+  };
+  std::array<std::vector<int>, 2> last{ranks_of(2), ranks_of(3)};
+  std::array<int, 2> changes{0, 0};
+  run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo&) {
+    for (int k = 0; k < 2; ++k) {
+      const std::vector<int> now = ranks_of(k + 2);
+      for (int p = 0; p < c.model.points.size(); ++p) changes[k] += now[p] != last[k][p];
+      last[k] = now;
+    }
+  });
+  std::cout << file << ": changes of rank over the run: " << changes[0] << " on 2 ranks, " << changes[1]
+            << " on 3 ranks\n";
+  return changes;
+}
+
+TEST(FBar, PointsOfTheMpiTestCasesChangeRankDuringTheRun) {
+  // The node-row footing's points move less than half a cell: none changes rank. The
+  // rigid box pushed to s/B = 0.09 (the Mpi.RigidFooting* tests) moves them across.
+  const auto node_row = rank_changes("/examples/footing_tresca_2d.toml", {"output.vtk_every=0", "output.plot=false"});
+  EXPECT_EQ(node_row[0] + node_row[1], 0) << "if this changes, the Tresca MPI tests cover crossings too";
+  const auto box = rank_changes(
+      "/examples/footing_rigid_2d.toml",
+      {"output.vtk_every=0", "output.plot=false", "load_steps.count=18", "rigid_boxes[0].displacement=[0.0,-0.18]"});
+  EXPECT_GT(box[0], 0) << "2 ranks";
+  EXPECT_GT(box[1], 0) << "3 ranks";
 }
