@@ -28,6 +28,9 @@ struct MpmRunOptions {
   std::filesystem::path shown;        ///< the folder named in messages (default: the output folder)
   std::filesystem::path checkpoints;  ///< where checkpoints go (default: <output folder>.checkpoints)
   std::filesystem::path restart;      ///< a checkpoint to continue from (empty: start at load factor 0)
+  /// A distributed run: the folder every rank writes its piece of the points' VTU files
+  /// into (rank 0's output folder); empty in a serial run.
+  std::filesystem::path pieces;
 };
 
 /// Everything a case file describes.

@@ -1,6 +1,7 @@
 // Runs an MPM case: reads it (app/MpmCaseReader.cpp), solves it with the gradient step
 // as a post-step stage of the driver, and writes the outputs, each file all or nothing:
 //   points_NNNN.vtu, grid_NNNN.vtu, points.pvd, grid.pvd   every output.vtk_every steps
+//     (on N MPI ranks points_NNNN.pvtu and one piece points_NNNN_R.vtu per rank)
 //   newton_history.csv, tracked_points.csv, reactions.csv,
 //   energy.csv (work, elastic energy, dissipation)          after every step
 //   load_displacement.png                                  at the end, with named constraints
@@ -73,6 +74,33 @@ Series get_series(const Archive& a, const std::string& name) {
   return s;
 }
 
+/// A distributed run's points at one step: each rank writes the piece
+/// points_NNNN_R.vtu, an equal share of the points (contiguous ids), into `folder`;
+/// returns the pieces' names once every rank has written its own. A rank that cannot
+/// write its piece stops every rank.
+template <int dim>
+std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, int np, const PointColumns<dim>& table,
+                                          const std::vector<std::string>& names) {
+  const int size = ranks::size(), rank = ranks::rank();
+  std::vector<std::string> pieces;
+  for (int r = 0; r < size; ++r) pieces.push_back(fmt::format("points_{:04d}_{}.vtu", step, r));
+  std::string problem;
+  try {
+    StagedOutputs out(folder);
+    const auto first = static_cast<int>(static_cast<long long>(np) * rank / size),
+               last = static_cast<int>(static_cast<long long>(np) * (rank + 1) / size);
+    out.write_text(pieces[rank], table.vtu(names, first, last));
+    out.commit();
+  } catch (const OutputError& e) {
+    problem = e.what();
+  }
+  if (ranks::min(problem.empty() ? 1 : 0) == 0)
+    throw OutputError(problem.empty()
+                          ? fmt::format("another rank could not write its VTU piece into {}", folder.string())
+                          : fmt::format("rank {}: {}", rank, problem));
+  return pieces;
+}
+
 template <int dim>
 void print_step(const StepInfo& info) {
   std::string res;
@@ -116,10 +144,16 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const std::vector<std::string> tracked_columns = tracked_table.with_state(kTrackedColumns);
   std::string tracked = "step,load_factor," + join(tracked_table.csv_header(tracked_columns)) + "\n";
   auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
-    const std::string pf = fmt::format("points_{:04d}.vtu", step), gf = fmt::format("grid_{:04d}.vtu", step);
+    const std::string gf = fmt::format("grid_{:04d}.vtu", step);
     const PointColumns<dim> table(m, gradient_step.fields());
+    const std::vector<std::string> names = vtu_point_columns(table);
+    const bool in_pieces = ranks::distributed();
+    const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
+    const std::vector<std::string> pieces =
+        in_pieces ? write_vtu_pieces(options.pieces, step, m.points.size(), table, names) : std::vector<std::string>{};
+    if (ranks::rank() != 0) return;  // rank 0 writes the rest
     StagedOutputs out(dir);
-    out.write_text(pf, table.vtu(vtu_point_columns(table)));
+    out.write_text(pf, in_pieces ? pvtu_points(table.vtk_layout(names), pieces) : table.vtu(names));
     out.write_text(gf, grid_vtu(m, info));
     pvd_points.emplace_back(lambda, pf);
     pvd_grid.emplace_back(lambda, gf);

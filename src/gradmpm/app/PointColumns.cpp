@@ -117,19 +117,28 @@ std::vector<std::string> PointColumns<dim>::with_state(std::vector<std::string> 
 }
 
 template <int dim>
-std::string PointColumns<dim>::vtu(const std::vector<std::string>& names) const {
-  const int np = model_.points.size();
+std::string PointColumns<dim>::vtu(const std::vector<std::string>& names, int first, int last) const {
+  if (last < 0) last = model_.points.size();
+  const int np = last - first;
   std::vector<double> xyz(3 * static_cast<std::size_t>(np));
-  for (int p = 0; p < np; ++p) put<dim>(model_.points.position[p], &xyz[3 * p]);
-  std::vector<VtkField> fields;
-  for (const auto& name : names) {
-    const PointColumn& c = column(name);
-    const int nc = c.vtk_components();
-    VtkField f{c.name, nc, std::vector<double>(static_cast<std::size_t>(np) * nc), c.integer};
-    for (int p = 0; p < np; ++p) c.value(p, &f.values[static_cast<std::size_t>(p) * nc]);
-    fields.push_back(std::move(f));
+  for (int p = 0; p < np; ++p) put<dim>(model_.points.position[first + p], &xyz[3 * p]);
+  std::vector<VtkField> fields = vtk_layout(names);
+  for (auto& f : fields) {
+    const PointColumn& c = column(f.name);
+    f.values.resize(static_cast<std::size_t>(np) * f.components);
+    for (int p = 0; p < np; ++p) c.value(first + p, &f.values[static_cast<std::size_t>(p) * f.components]);
   }
   return vtu_points(xyz, fields);
+}
+
+template <int dim>
+std::vector<VtkField> PointColumns<dim>::vtk_layout(const std::vector<std::string>& names) const {
+  std::vector<VtkField> layout;
+  for (const auto& name : names) {
+    const PointColumn& c = column(name);
+    layout.push_back({c.name, c.vtk_components(), {}, c.integer});
+  }
+  return layout;
 }
 
 namespace {

@@ -12,6 +12,7 @@
 
 #include "gradmpm/gradient/MpmGradient.hpp"
 #include "gradmpm/io/Csv.hpp"
+#include "gradmpm/io/Vtk.hpp"
 
 namespace gradmpm {
 
@@ -39,8 +40,11 @@ class PointColumns {
   /// `names` followed by the state columns not among them.
   std::vector<std::string> with_state(std::vector<std::string> names) const;
 
-  /// A VTU file of the points at their current positions with the named columns.
-  std::string vtu(const std::vector<std::string>& names) const;
+  /// A VTU file of the points [first, last) (last < 0: to the end) at their current
+  /// positions with the named columns.
+  std::string vtu(const std::vector<std::string>& names, int first = 0, int last = -1) const;
+  /// The named columns' VTK layout (names, components, types; no values), for a .pvtu.
+  std::vector<VtkField> vtk_layout(const std::vector<std::string>& names) const;
   /// The named columns as a CSV table (one row per point).
   CsvTable csv(const std::vector<std::string>& names) const;
   /// CSV header names of the named columns.

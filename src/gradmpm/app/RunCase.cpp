@@ -47,8 +47,9 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
                r.timings.assembly_s, r.timings.classical_solve_s, r.timings.gradient_s, r.timings.recovery_s);
 }
 /// A distributed run (core/Ranks.hpp): every rank solves, rank 0 alone prints and writes
-/// the output folder (the others write into a scratch folder of their own, removed at the
-/// end). Whether rank 0 could open the folder is told to every rank before any solving.
+/// the output folder but for the other ranks' pieces of the points' VTU files (the others
+/// write the rest into a scratch folder of their own, removed at the end). Whether rank 0 could open the folder is told
+/// to every rank before any solving.
 void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunOptions& options) {
   namespace fs = std::filesystem;
   std::optional<RunFolder> folder;
@@ -60,6 +61,10 @@ void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunO
     }
   const std::vector<char> told = ranks::broadcast(std::vector<char>(problem.begin(), problem.end()));
   if (!told.empty()) throw UserError(std::string(told.begin(), told.end()));  // every rank, one message
+  // Rank 0's output folder, where every rank writes its piece of the points' VTU files (a
+  // file system the ranks share, as on a cluster).
+  const std::string staging = folder ? folder->staging().string() : std::string();
+  const std::vector<char> shared = ranks::broadcast(std::vector<char>(staging.begin(), staging.end()));
   fs::path scratch;
   if (!folder) {
     scratch = fs::temp_directory_path() / fmt::format("gradmpm-rank{}-{}", ranks::rank(), ::getpid());
@@ -76,7 +81,8 @@ void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunO
   const MpmRunOptions run{.quiet = options.quiet || !folder,
                           .shown = out_dir,
                           .checkpoints = folder ? checkpoint_folder_of(folder->dir()) : scratch / "checkpoints",
-                          .restart = options.restart};
+                          .restart = options.restart,
+                          .pieces = std::string(shared.begin(), shared.end())};
   try {
     run_mpm_case(cf, dir, run);
   } catch (const SolverError&) {

@@ -104,6 +104,19 @@ template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&);
 template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&);
 template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&);
 
+std::string pvtu_points(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces) {
+  std::string s =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n<PUnstructuredGrid GhostLevel=\"0\">\n<PPointData>\n";
+  for (const auto& f : layout)
+    fmt::format_to(std::back_inserter(s), "<PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
+                   f.integer ? "Int64" : "Float64", f.name, f.components);
+  s += "</PPointData>\n<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
+  for (const auto& piece : pieces) fmt::format_to(std::back_inserter(s), "<Piece Source=\"{}\"/>\n", piece);
+  s += "</PUnstructuredGrid>\n</VTKFile>\n";
+  return s;
+}
+
 std::string pvd(const std::vector<std::pair<double, std::string>>& entries) {
   std::string s =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" "

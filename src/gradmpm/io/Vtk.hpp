@@ -24,6 +24,11 @@ std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkFiel
 template <int dim>
 std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields);
 
+/// A parallel file (.pvtu) of point pieces written by vtu_points, one per rank: the
+/// fields' names, components and types (`layout`; values unused) and the pieces' file
+/// names relative to the .pvtu.
+std::string pvtu_points(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces);
+
 /// A collection: (load factor, file name relative to the .pvd).
 std::string pvd(const std::vector<std::pair<double, std::string>>& entries);
 
