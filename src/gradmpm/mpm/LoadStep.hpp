@@ -135,7 +135,7 @@ class LoadStep {
         weights_[p] = pts.volume[p];
       }
     }
-    if (split_) inverted = ranks::min(inverted);  // every rank fails, or none
+    if (split_) lowest_over_ranks(inverted, inverted_det, np);  // every rank fails, or none
     if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
     scatter_internal_force(du, f_int);
   }
@@ -320,7 +320,7 @@ class LoadStep {
     grads_.resize(np);
     weights_.resize(np);
     auto [inverted, det] = volume_changes(du, my_points, mine);
-    if (split_) inverted = ranks::min(inverted);  // every rank fails, or none
+    if (split_) lowest_over_ranks(inverted, det, np);  // every rank fails, or none
     if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
 #pragma omp parallel for schedule(static) if (use_threads(mine))
     for (int k = 0; k < mine; ++k) {

@@ -69,6 +69,16 @@ inline PointPartition partition_points(const std::vector<int>& key, int num_node
   return part;
 }
 
+/// A distributed run's failed point: the lowest `point` over the ranks (`none` where no
+/// rank has one) and the `value` its owner found for it, on every rank.
+inline void lowest_over_ranks(int& point, double& value, int none) {
+  const int lowest = ranks::min(point);
+  double v = lowest == point ? value : 0.0;  // points are unique to ranks: one owner adds it
+  if (lowest < none) ranks::sum(&v, 1);
+  point = lowest;
+  value = v;
+}
+
 /// After a converged iterate of a distributed run: every rank's points' stresses (9
 /// values at stress_of(p), a 3x3 matrix) and histories (`stride` values per point in
 /// `state`) copied to every other rank, which computed only its own.
