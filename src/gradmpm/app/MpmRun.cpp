@@ -120,6 +120,9 @@ void print_step(const StepInfo& info) {
 template <int dim>
 void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const bool quiet = options.quiet;
+  // A distributed run: rank 0 writes the outputs; the others only their VTU pieces (no
+  // CSV files, checkpoints or plots of their own: at 1000 ranks, 999 plots).
+  const bool writes = ranks::rank() == 0;
   const fs::path shown = options.shown.empty() ? dir : options.shown;
   const std::string case_text = cf.canonical_text();
   MpmCase<dim> c = read_mpm_case<dim>(cf);
@@ -245,7 +248,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     a.get_objects("outputs/block_displacement", static_cast<long long>(block_u.size()), block_u);
     pvd_points = get_series(a, "outputs/points_pvd");
     pvd_grid = get_series(a, "outputs/grid_pvd");
-    link_files(restart->outputs, dir);
+    if (writes) link_files(restart->outputs, dir);
     if (!quiet)
       fmt::print("  restarting from {}: step {}, load factor {:.6g}\n", options.restart.string(), start.summary.steps,
                  start.load_factor);
@@ -269,6 +272,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           classical_seconds += info.seconds;
           if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
             write_vtk(info.step, info.load_factor, &info);
+          if (!writes) return;
           StagedOutputs out(dir);
           out.write_text("newton_history.csv", history);
           if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
@@ -287,6 +291,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           }
         },
         start);
+    if (!writes) return;
     const PointColumns<dim> table(m, gradient_step.fields());
     std::vector<std::string> final_columns = table.with_state(kFinalColumns);
     final_columns.push_back("dissipation");  // last: the columns before it keep their places
