@@ -154,7 +154,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
     const std::vector<std::string> pieces =
         in_pieces ? write_vtu_pieces(options.pieces, step, m.points.size(), table, names) : std::vector<std::string>{};
-    if (ranks::rank() != 0) return;  // rank 0 writes the rest
+    if (!writes) return;  // rank 0 writes the rest
     StagedOutputs out(dir);
     out.write_text(pf, in_pieces ? pvtu_points(table.vtk_layout(names), pieces) : table.vtu(names));
     out.write_text(gf, grid_vtu(m, info));

@@ -48,8 +48,8 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
 }
 /// A distributed run (core/Ranks.hpp): every rank solves, rank 0 alone prints and writes
 /// the output folder but for the other ranks' pieces of the points' VTU files (the others
-/// write nothing else; they are given a scratch folder of their own, removed at the end). Whether rank 0 could open the
-/// folder is told to every rank before any solving.
+/// write nothing else; they are given a scratch folder of their own, removed at the end).
+/// Whether rank 0 could open the folder is told to every rank before any solving.
 void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunOptions& options) {
   namespace fs = std::filesystem;
   std::optional<RunFolder> folder;

@@ -77,14 +77,18 @@ class FBarCells {
     return cells;
   }
 
-  /// dJbar of each point's cell from every point's dJ.
-  void average(const std::vector<double>& dJ, std::vector<double>& dJbar) const {
+  /// dJbar of the points of `cells` (null: every cell) from their points' dJ.
+  void average(const std::vector<double>& dJ, std::vector<double>& dJbar, const std::vector<int>* cells) const {
     dJbar.resize(dJ.size());
-    for (const auto& m : members_) {
+    auto one = [&](const std::vector<int>& m) {
       double s = 0.0;
       for (int q : m) s += weight_[q] * dJ[q];
       for (int q : m) dJbar[q] = s;
-    }
+    };
+    if (!cells)
+      for (const auto& m : members_) one(m);
+    else
+      for (int c : *cells) one(members_[c]);
   }
 
   /// The cell coupling of the tangent for `cells`: K += U_c V_c^T per cell,

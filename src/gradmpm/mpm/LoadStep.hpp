@@ -221,7 +221,7 @@ class LoadStep {
   /// distributed F-bar run first finds every cell's dJbar: each rank made its own cells'.)
   void commit(Model<dim>& m, const Vector& du) {
     auto& pts = m.points;
-    if (fbar_ && split_) volume_changes(du, part_.order.data(), pts.size());
+    if (fbar_ && split_) volume_changes(du, part_.order.data(), pts.size(), nullptr);
     pts.state = trial_state_;  // the material histories of the converged iterate
     for (int p = 0; p < pts.size(); ++p) {
       Vec<dim> dx;
@@ -319,7 +319,7 @@ class LoadStep {
     f_int = Vector::Zero(dofs_.num_dofs());
     grads_.resize(np);
     weights_.resize(np);
-    auto [inverted, det] = volume_changes(du, my_points, mine);
+    auto [inverted, det] = volume_changes(du, my_points, mine, &my_cells_);
     if (split_) lowest_over_ranks(inverted, det, np);  // every rank fails, or none
     if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
 #pragma omp parallel for schedule(static) if (use_threads(mine))
@@ -341,9 +341,9 @@ class LoadStep {
     scatter_internal_force(du, f_int);
   }
 
-  /// F-bar: dF and dJ of `count` points and dJbar of their cells; the lowest inverted
-  /// point (the number of points if none) and its dJ.
-  std::pair<int, double> volume_changes(const Vector& du, const int* points, int count) {
+  /// F-bar: dF and dJ of `count` points and dJbar of `cells`, theirs (null: every cell);
+  /// the lowest inverted point (the number of points if none) and its dJ.
+  std::pair<int, double> volume_changes(const Vector& du, const int* points, int count, const std::vector<int>* cells) {
     const int np = model_.points.size();
     fbar_dF_.resize(np);
     fbar_dJ_.resize(np);
@@ -354,7 +354,7 @@ class LoadStep {
       fbar_dJ_[p] = fbar_dF_[p].determinant();
       if (!(fbar_dJ_[p] > 0.0)) inverted = std::min(inverted, p);
     }
-    fbar_->average(fbar_dJ_, fbar_dJbar_);  // cells of other ranks' points: not read
+    fbar_->average(fbar_dJ_, fbar_dJbar_, cells);
     return {inverted, inverted < np ? fbar_dJ_[inverted] : 0.0};
   }
 

@@ -49,15 +49,13 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
 
 void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& values) const {
   if (values.size() != dofs_.size()) throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
-  if (share_) {  // each rank's share of A_ic g_c, summed (every rank takes the same branch)
-    if (std::all_of(values.begin(), values.end(), [](double v) { return v == 0.0; })) {
-      for (std::size_t k = 0; k < dofs_.size(); ++k) b[dofs_[k]] = 0.0;
-      return;
+  if (share_) {  // each rank's share of A_ic g_c, summed; none to sum for zero values (every rank alike)
+    if (std::any_of(values.begin(), values.end(), [](double v) { return v != 0.0; })) {
+      Vector lift = Vector::Zero(b.size());
+      for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
+      ranks::sum(lift.data(), lift.size());
+      b -= lift;
     }
-    Vector lift = Vector::Zero(b.size());
-    for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
-    ranks::sum(lift.data(), lift.size());
-    b -= lift;
   } else {
     for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
   }
