@@ -291,6 +291,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string> refined{fmt::format("grid.origin=[-0.25,{}]", -2 * h),
                                            fmt::format("grid.cell_size={}", h),
                                            fmt::format("grid.cells=[{},{}]", 36 * r, 52 * r + 2),
+                                           "rigid_boxes[0].displacement=[0.0,-0.045]",  // as measured
                                            "load_steps.count=10",
                                            "output.vtk_every=0",
                                            "output.plot=false",

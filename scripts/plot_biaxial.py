@@ -61,7 +61,9 @@ def run(name, r, classical=False, extra=()):
         # its VTU files keep the last fields
         cmd = [os.path.join(build, "bin", "gradmpm"), "run", case, "--out", folder, "-q",
                "--set", f"output.vtk_every={10 if classical else 20}", "--set", "output.plot=false"]
-        for k in keys + list(extra):
+        # the figures' runs end at platen 0.045 (180 steps), the example's first 180 steps
+        end = ["rigid_boxes[0].displacement=[0.0,-0.045]", "load_steps.count=180"]
+        for k in keys + end + list(extra):
             cmd += ["--set", k]
         subprocess.run(cmd, check=not classical)
     reactions = list(csv.DictReader(open(os.path.join(folder, "reactions.csv"))))

@@ -16,6 +16,11 @@
 //     on h = l/2, the weak patch l x l), compared where the platen force has fallen past
 //     the peak to the same value, thickness / l of l = 1/8 and of l = 1/18 are within 10 %
 //     of that of l = 1/12: two pairs.
+//  S5 the band stays finite while the points cross the grid (large deformation): the
+//     example as it stands (h = l/2, platen 0.075 in 300 steps) converges to its end, every
+//     point of the upper block (Y > 1.2) has moved more than two cells, and at every
+//     platen displacement from 0.01 on the band is 45 +- 3 degrees and between 2 l and
+//     3.5 l thick (the classical band is at most 2.5 h = 1.25 l, S3).
 // The fine grid's runs are measured in the docs (a third grid, h = l/4, takes tens of
 // minutes).
 #include <gtest/gtest.h>
@@ -37,7 +42,7 @@ namespace {
 const std::string kExample = std::string(GRADMPM_SOURCE_DIR) + "/examples/biaxial_2d.toml";
 constexpr double kL = 1.0 / 12.0;   // the example's length scale
 constexpr double kPlaten = 0.0125;  // the platen displacement the bands are compared at
-constexpr int kSteps = 50;          // the example's step size, 0.045 / 180
+constexpr int kSteps = 50;          // the example's step size, 0.075 / 300
 
 struct Band {
   double angle = 0.0;      ///< degrees between the band and the loading (vertical) axis
@@ -210,6 +215,42 @@ TEST(ShearBand2d, RegularisedThicknessIsProportionalToTheLengthScale) {  // S4
              per_l[2]);
   EXPECT_NEAR(per_l[0] / per_l[1], 1.0, 0.10) << "l = 1/8 against 1/12";
   EXPECT_NEAR(per_l[2] / per_l[1], 1.0, 0.10) << "l = 1/18 against 1/12";
+}
+
+TEST(ShearBand2d, RegularisedBandStaysFiniteWhileThePointsCrossTwoCells) {  // S5
+  CaseFile cf = CaseFile::load(kExample, {"output.vtk_every=0"});
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  const double h = c.model.grid.cell_size()[0];
+  std::vector<std::pair<double, Band>> bands;  // (platen, band) every 0.01 of platen
+  double platen = 0.0, next = 0.01;
+  ASSERT_NO_THROW(run_quasi_static<2>(c.model, c.newton, [&](const Model<2>& m, const StepInfo& info) {
+    platen = 0.075 * info.load_factor;
+    if (platen >= next - 1e-12 || info.last) {
+      bands.push_back({platen, measure(m, h / 2)});
+      next += 0.01;
+    }
+  }));
+  EXPECT_NEAR(platen, 0.075, 1e-12);
+  ASSERT_GE(bands.size(), 7u);
+  for (const auto& [at, b] : bands) {
+    fmt::print("platen {:.4f}: band at {:.2f} deg, thickness {:.4f} ({:.2f} l) over {} sections\n", at, b.angle,
+               b.thickness, b.thickness / kL, b.sections);
+    ASSERT_GE(b.sections, 10) << "at platen " << at;
+    EXPECT_NEAR(b.angle, 45.0, 3.0) << "at platen " << at;
+    EXPECT_GE(b.thickness, 2.0 * kL) << "at platen " << at;
+    EXPECT_LE(b.thickness, 3.5 * kL) << "at platen " << at;
+  }
+  double least = 1e300;
+  int upper = 0;
+  for (int p = 0; p < c.model.points.size(); ++p) {
+    const auto& X = c.model.points.original_position[p];
+    if (X[1] <= 1.2) continue;
+    ++upper;
+    least = std::min(least, (c.model.points.position[p] - X).norm());
+  }
+  fmt::print("{} points of the upper block: the least moved {:.4f} = {:.2f} cells\n", upper, least, least / h);
+  ASSERT_GT(upper, 500);
+  EXPECT_GT(least, 2.0 * h);
 }
 
 }  // namespace
