@@ -21,6 +21,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <thread>
@@ -135,7 +136,15 @@ TEST_F(CheckpointCli, AKilledRunRestartedFromItsCheckpointEndsAsTheUninterrupted
   EXPECT_NE(again.out.find("restarting from"), std::string::npos);
   EXPECT_EQ(again.out.find("step   15 "), std::string::npos) << "step 15 was solved again";
   EXPECT_EQ(first_difference(whole, killed), "");
-  EXPECT_EQ(files_of(whole).size(), 21u) << "every output but load_displacement.png (a plot of reactions.csv)";
+  // Every output but load_displacement.png (a plot of reactions.csv): 7 files, and a
+  // points and a grid VTU file at step 0, every 5th step and the last. How many steps the
+  // collapse takes depends on its cuts, which round-off in the BLAS decides past step 15.
+  const auto done = r.out.find("done: ");
+  ASSERT_NE(done, std::string::npos) << r.out;
+  int steps = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + done, "done: %d steps", &steps), 1) << r.out;
+  const std::size_t vtk = static_cast<std::size_t>(steps / 5 + 1 + (steps % 5 != 0));
+  EXPECT_EQ(files_of(whole).size(), 7 + 2 * vtk) << steps << " steps";
 }
 
 TEST_F(CheckpointCli, TheGradientFieldsCarriedAtThePointsContinueBitForBit) {
