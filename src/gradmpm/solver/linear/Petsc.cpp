@@ -1,18 +1,12 @@
-// PETSc's Krylov solvers and preconditioners (KSP, PC) behind the LinearSolver interface:
-// linear_solver.type = "petsc", with linear_solver.options passed to PETSc's options
-// database, so any KSP and PC PETSc has (GAMG, hypre BoomerAMG, MUMPS, ...) is one
-// option away (docs/performance.md).
-//
-// Defaults: conjugate gradients with smoothed-aggregation algebraic multigrid (GAMG) for
-// symmetric systems, GMRES with GAMG for general ones. Given the node coordinates
-// (describe()), GAMG gets the rigid-body modes of elasticity as its near-null space; it
-// keeps its interpolation across the refactorisations of one pattern (a load step's
-// Newton iterations) and recomputes only the coarse operators. The Newton driver sets
-// the relative tolerance of each solve (inexact Newton); other solves use 1e-12.
-//
-// Each solver's options get a prefix of its own in PETSc's global database, so that the
-// objects PETSc creates inside the preconditioner (multigrid levels, smoothers) see
-// them, and two solvers never see each other's.
+// PETSc's KSP and PC behind the LinearSolver interface: linear_solver.type = "petsc",
+// linear_solver.options go to PETSc's options database, so any KSP and PC (GAMG, hypre,
+// MUMPS, ...) is one option away (docs/performance.md). Defaults: CG with GAMG for
+// symmetric systems, given the rigid-body modes from the node coordinates (describe()),
+// its interpolation kept across a load step's refactorisations; MUMPS's LU for general
+// ones (GMRES with GAMG without MUMPS, or when the options name -ksp_type or -pc_type).
+// The Newton driver sets each solve's relative tolerance (inexact Newton); other solves
+// use 1e-12. Each solver's options get a prefix of its own in PETSc's database, so that
+// the objects inside the preconditioner see them and two solvers never see each other's.
 #include <fmt/format.h>
 #include <petscksp.h>
 
@@ -131,7 +125,8 @@ class Petsc final : public LinearSolver {
     check(MatGetInfo(matrix_, MAT_LOCAL, &info), "MatGetInfo");
     if (static_cast<PetscInt>(info.nz_used) != row_start_end)
       throw SolverError(fmt::format("PETSc kept {} of the matrix's {} entries", info.nz_used, row_start_end));
-    if (bs > 1 && description_.node_coordinates) set_rigid_body_modes(bs);
+    rigid_modes_ = bs > 1 && description_.node_coordinates;
+    if (rigid_modes_) set_rigid_body_modes(bs);
     check(MatCreateVecs(matrix_, &x_, &b_), "MatCreateVecs");
     make_ksp();
   }
@@ -269,23 +264,47 @@ class Petsc final : public LinearSolver {
     VecDestroy(&coords);
   }
 
+  bool user_named(const char* option) const {
+    return std::any_of(names_.begin(), names_.end(), [&](const OptionName& n) { return n.user == option; });
+  }
+
+  /// General matrices (F-bar, non-associated, indefinite) default to MUMPS's LU: GMRES
+  /// with GAMG took up to 10 000 iterations in a collapsing footing (docs/performance.md).
+  bool direct_default() const {
+    if (kind_ != MatrixKind::General || user_named("ksp_type") || user_named("pc_type")) return false;
+    PetscBool found = PETSC_FALSE, found_type = PETSC_FALSE;
+    MatType type;
+    check(MatGetType(matrix_, &type), "MatGetType");
+    check(MatSolverTypeGet(MATSOLVERMUMPS, type, MAT_FACTOR_LU, &found, &found_type, nullptr), "MatSolverTypeGet");
+    return found && found_type;  // a PETSc built without MUMPS keeps GMRES with GAMG
+  }
+
   void make_ksp() {
     check(KSPCreate(comm(), &ksp_), "KSPCreate");
     check(KSPSetOptionsPrefix(ksp_, prefix_.c_str()), "KSPSetOptionsPrefix");
-    check(KSPSetType(ksp_, kind_ == MatrixKind::General ? KSPGMRES : KSPCG), "KSPSetType");
-    if (kind_ == MatrixKind::General) check(KSPGMRESSetRestart(ksp_, 200), "KSPGMRESSetRestart");
-    check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
     PC pc;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
-    check(PCSetType(pc, PCGAMG), "PCSetType");
-    check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
+    if (direct_default()) {
+      check(KSPSetType(ksp_, KSPPREONLY), "KSPSetType");
+      check(PCSetType(pc, PCLU), "PCSetType");
+      check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    } else {
+      check(KSPSetType(ksp_, kind_ == MatrixKind::General ? KSPGMRES : KSPCG), "KSPSetType");
+      if (kind_ == MatrixKind::General) check(KSPGMRESSetRestart(ksp_, 200), "KSPGMRESSetRestart");
+      check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+      check(PCSetType(pc, PCGAMG), "PCSetType");
+      check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
+      // Without rigid-body modes (the scalar Helmholtz systems: rows of nodes a point barely
+      // reaches are tiny) CG sees D^-1/2 A D^-1/2: 1100 -> 45 iterations on tresca_2d:8.
+      check(KSPSetDiagonalScale(ksp_, rigid_modes_ ? PETSC_FALSE : PETSC_TRUE), "KSPSetDiagonalScale");
+      check(KSPSetDiagonalScaleFix(ksp_, PETSC_TRUE), "KSPSetDiagonalScaleFix");
+    }
     check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
     check(KSPSetOperators(ksp_, matrix_, matrix_), "KSPSetOperators");
     check(KSPSetFromOptions(ksp_), "reading linear_solver.options (KSPSetFromOptions)");
   }
 
-  /// In a distributed run every rank holds the whole system and PETSc splits it: rank r
-  /// owns a contiguous range of whole nodes (bs equations each), as even as can be.
+  /// Distributed: each rank holds the whole system; rank r owns a contiguous, even range of nodes.
   MPI_Comm comm() const { return distributed_ ? PETSC_COMM_WORLD : PETSC_COMM_SELF; }
   void split_rows(PetscInt n, int bs) {
     const int size = distributed_ ? ranks::size() : 1, rank = distributed_ ? ranks::rank() : 0;
@@ -305,7 +324,8 @@ class Petsc final : public LinearSolver {
   }
 
   MatrixKind kind_;
-  bool user_rtol_ = false;  ///< -ksp_rtol given: the options decide, not the Newton driver
+  bool rigid_modes_ = false;  ///< GAMG has the rigid-body modes as its near-null space
+  bool user_rtol_ = false;    ///< -ksp_rtol given: the options decide, not the Newton driver
   std::string prefix_;
   struct OptionName {
     std::string user, prefixed;  ///< "ksp_type", "-gradmpm3_ksp_type"
@@ -366,7 +386,7 @@ std::string check_petsc_options(const LinearSolverSettings& s) {
 LinearSolverInfo petsc_solver_info() {
   LinearSolverInfo info{
       "petsc",
-      "PETSc KSP (default: CG with GAMG and the rigid-body modes; GMRES for general matrices); "
+      "PETSc KSP (default: CG with GAMG and the rigid-body modes; MUMPS LU for general matrices); "
       "linear_solver.options go to PETSc's options database",
       true, [](const LinearSolverSettings& s, MatrixKind kind) { return std::make_unique<Petsc>(s, kind); }};
   info.takes_options = true;
