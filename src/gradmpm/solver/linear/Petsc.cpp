@@ -269,7 +269,9 @@ class Petsc final : public LinearSolver {
   }
 
   /// General matrices (F-bar, non-associated, indefinite) default to MUMPS's LU: GMRES
-  /// with GAMG took up to 10 000 iterations in a collapsing footing (docs/performance.md).
+  /// with GAMG did not converge in useful time on the F-bar footing (bench_mpm tresca_2d:12
+  /// ran over 6 minutes in its second step; MUMPS: 1.7 s per Newton iteration there,
+  /// docs/performance.md).
   bool direct_default() const {
     if (kind_ != MatrixKind::General || user_named("ksp_type") || user_named("pc_type")) return false;
     PetscBool found = PETSC_FALSE, found_type = PETSC_FALSE;
@@ -295,7 +297,7 @@ class Petsc final : public LinearSolver {
       check(PCSetType(pc, PCGAMG), "PCSetType");
       check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
       // Without rigid-body modes (the scalar Helmholtz systems: rows of nodes a point barely
-      // reaches are tiny) CG sees D^-1/2 A D^-1/2: 1100 -> 45 iterations on tresca_2d:8.
+      // reaches are tiny) CG sees D^-1/2 A D^-1/2: tresca_2d:8's gradient solves 14.1 -> 0.78 s.
       check(KSPSetDiagonalScale(ksp_, rigid_modes_ ? PETSC_FALSE : PETSC_TRUE), "KSPSetDiagonalScale");
       check(KSPSetDiagonalScaleFix(ksp_, PETSC_TRUE), "KSPSetDiagonalScaleFix");
     }
