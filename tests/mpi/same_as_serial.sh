@@ -7,15 +7,19 @@
 #
 # The serial run uses the case's solver (CHOLMOD by default); the distributed one PETSc
 # with MUMPS's parallel LU, so the two differ by round-off only, not by a Krylov tolerance.
+# With PETSC_OPTIONS_OF_RANKS set (possibly empty) the ranks get those options instead;
+# empty: PETSc's defaults (MUMPS's LU for a general tangent, as with F-bar).
 set -euo pipefail
 gradmpm=$1 mpiexec=$2 ranks=$3 case=$4 work=$5
 shift 5
 here=$(cd "$(dirname "$0")" && pwd)
+options=${PETSC_OPTIONS_OF_RANKS--ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps}
+rank_args=(--set linear_solver.type=petsc)
+[ -z "$options" ] || rank_args+=(--set "linear_solver.options=$options")
 rm -rf "$work" && mkdir -p "$work"
 "$gradmpm" run "$case" --out "$work/serial" -q -j1 "$@"
 "$mpiexec" --allow-run-as-root --oversubscribe -n "$ranks" "$gradmpm" run "$case" --out "$work/ranks" -q -j1 "$@" \
-  --set linear_solver.type=petsc \
-  --set 'linear_solver.options=-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps'
+  "${rank_args[@]}"
 status=0
 for f in points_final.csv reactions.csv points_gradient.csv; do
   [ -f "$work/serial/$f" ] || continue
