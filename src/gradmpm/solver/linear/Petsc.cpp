@@ -125,10 +125,10 @@ class Petsc final : public LinearSolver {
     check(MatGetInfo(matrix_, MAT_LOCAL, &info), "MatGetInfo");
     if (static_cast<PetscInt>(info.nz_used) != row_start_end)
       throw SolverError(fmt::format("PETSc kept {} of the matrix's {} entries", info.nz_used, row_start_end));
-    rigid_modes_ = bs > 1 && description_.node_coordinates;
-    if (rigid_modes_) set_rigid_body_modes(bs);
+    const bool rigid_modes = bs > 1 && description_.node_coordinates;
+    if (rigid_modes) set_rigid_body_modes(bs);
     check(MatCreateVecs(matrix_, &x_, &b_), "MatCreateVecs");
-    make_ksp();
+    make_ksp(rigid_modes);
   }
 
   void do_factorize(const SparseMatrix& A) override {
@@ -281,7 +281,8 @@ class Petsc final : public LinearSolver {
     return found && found_type;  // a PETSc built without MUMPS keeps GMRES with GAMG
   }
 
-  void make_ksp() {
+  /// rigid_modes: GAMG has the rigid-body modes as its near-null space.
+  void make_ksp(bool rigid_modes) {
     check(KSPCreate(comm(), &ksp_), "KSPCreate");
     check(KSPSetOptionsPrefix(ksp_, prefix_.c_str()), "KSPSetOptionsPrefix");
     PC pc;
@@ -298,7 +299,7 @@ class Petsc final : public LinearSolver {
       check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
       // Without rigid-body modes (the scalar Helmholtz systems: rows of nodes a point barely
       // reaches are tiny) CG sees D^-1/2 A D^-1/2: tresca_2d:8's gradient solves 14.1 -> 0.78 s.
-      check(KSPSetDiagonalScale(ksp_, rigid_modes_ ? PETSC_FALSE : PETSC_TRUE), "KSPSetDiagonalScale");
+      check(KSPSetDiagonalScale(ksp_, rigid_modes ? PETSC_FALSE : PETSC_TRUE), "KSPSetDiagonalScale");
       check(KSPSetDiagonalScaleFix(ksp_, PETSC_TRUE), "KSPSetDiagonalScaleFix");
     }
     check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
@@ -326,8 +327,7 @@ class Petsc final : public LinearSolver {
   }
 
   MatrixKind kind_;
-  bool rigid_modes_ = false;  ///< GAMG has the rigid-body modes as its near-null space
-  bool user_rtol_ = false;    ///< -ksp_rtol given: the options decide, not the Newton driver
+  bool user_rtol_ = false;  ///< -ksp_rtol given: the options decide, not the Newton driver
   std::string prefix_;
   struct OptionName {
     std::string user, prefixed;  ///< "ksp_type", "-gradmpm3_ksp_type"
