@@ -5,11 +5,13 @@
 // converged increment mapped to the points. Internal to the driver.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "gradmpm/core/DefaultInitAllocator.hpp"
@@ -51,7 +53,6 @@ class LoadStep {
         contact_(m.rigid_boxes.empty()
                      ? nullptr
                      : std::make_unique<RigidContact<dim>>(m.rigid_boxes, m.points, st_, dofs_, lambda_end)),
-        pattern_(make_pattern()),
         assembler_(st_, m.points, dofs_, &m.grid, part_.begin(split_ ? ranks::rank() : 0),
                    part_.end(split_ ? ranks::rank() : 0)),
         response_(m.points.size()),
@@ -67,6 +68,11 @@ class LoadStep {
     f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
     if (fbar_)
       my_cells_ = fbar_->cells_of(part_.begin(split_ ? ranks::rank() : 0), part_.end(split_ ? ranks::rank() : 0));
+    if (split_ && contact_) {
+      owned_.assign(m.points.size(), 0);
+      for (const int* p = part_.begin(ranks::rank()); p != part_.end(ranks::rank()); ++p) owned_[*p] = 1;
+    }
+    pattern_ = make_pattern();  // after the constraints and this rank's cells
   }
 
   const DofMap& dofs() const { return dofs_; }
@@ -171,10 +177,12 @@ class LoadStep {
   /// The tangent K at the state of the last internal_force(): each point's material
   /// tangent is formed inside the (coloured, threaded) scatter-add, never stored. With a
   /// symmetric tangent (A_ijkl = A_klij) only the blocks b <= a are formed and mirrored.
-  /// In a distributed run K is summed over the ranks, or with `share` left as this rank's
-  /// share for the solver to add up (the grid's own terms, ghost faces and contacts, in
-  /// rank 0's share).
+  /// In a distributed run K is this rank's share (`share` must be true), which the solver
+  /// adds up: its points' terms and their contacts; the ghost faces in rank 0's share.
+  /// Its pattern holds those couplings only (make_pattern()).
   void stiffness(SparseMatrix& K, bool share = false) {
+    if (split_ && !share)
+      throw std::logic_error("a distributed run's tangent is each rank's share; its solver must add the shares up");
     if (&K == last_stiffness_ && K.nonZeros() == pattern_.nonZeros() && K.rows() == pattern_.rows())
       std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);  // the pattern is there: no copy
     else
@@ -211,10 +219,8 @@ class LoadStep {
         },
         symmetric);
     if (fbar_) fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
-    if (split_ && !share) ranks::sum(K.valuePtr(), K.nonZeros());  // every rank holds the whole K
-    if (share && ranks::rank() != 0) return;
-    if (ghost_) ghost_->add_matrix(dofs_, K);
-    if (contact_) contact_->add_matrix(K);
+    if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_matrix(dofs_, K);
+    if (contact_) contact_->add_matrix(K, split_ ? &owned_ : nullptr);
   }
 
   /// Eq. (2): maps the converged increment to the points and updates their state. (A
@@ -283,19 +289,36 @@ class LoadStep {
 
  private:
   /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'
-  /// stencils together) and each ghost face's nodes.
+  /// stencils together) and each ghost face's nodes. In a distributed run, those of this
+  /// rank's share only (stiffness()): its points' (its cells'), and on rank 0 the ghost
+  /// faces' and every constrained node's diagonal block (DirichletElimination puts the
+  /// constrained diagonal in rank 0's share). PETSc adds the shares' patterns up.
   SparseMatrix make_pattern() const {
-    const int n_main = fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size());
-    const int n_ghost = ghost_ ? ghost_->size() : 0;
+    const int rank = split_ ? ranks::rank() : 0;
+    const bool rank0 = rank == 0;
+    const int* mine = part_.begin(rank);
+    const int n_main = !split_ ? (fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size()))
+                               : (fbar_ ? static_cast<int>(my_cells_.size()) : part_.count(rank));
+    const int n_ghost = ghost_ && rank0 ? ghost_->size() : 0;
+    std::vector<int> constrained_nodes;
+    if (split_ && rank0) {
+      for (const int dof : constrained_) constrained_nodes.push_back(dofs_.node_of(dof / dim));
+      std::sort(constrained_nodes.begin(), constrained_nodes.end());
+      constrained_nodes.erase(std::unique(constrained_nodes.begin(), constrained_nodes.end()), constrained_nodes.end());
+    }
+    const int n_fixed = static_cast<int>(constrained_nodes.size());
+    auto main_group = [&](int g) { return !split_ ? g : fbar_ ? my_cells_[g] : mine[g]; };
     return build_pattern_of_groups(
-        n_main + n_ghost,
+        n_main + n_ghost + n_fixed,
         [&](int g) {
+          if (g >= n_main + n_ghost) return 1;
           if (g >= n_main) return ghost_->faces()[g - n_main].count;
-          return fbar_ ? static_cast<int>(fbar_->nodes()[g].size()) : st_[g].count;
+          return fbar_ ? static_cast<int>(fbar_->nodes()[main_group(g)].size()) : st_[main_group(g)].count;
         },
         [&](int g, int a) {
+          if (g >= n_main + n_ghost) return constrained_nodes[g - n_main - n_ghost];
           if (g >= n_main) return ghost_->faces()[g - n_main].node[a];
-          return fbar_ ? fbar_->nodes()[g][a] : st_[g].node[a];
+          return fbar_ ? fbar_->nodes()[main_group(g)][a] : st_[main_group(g)].node[a];
         },
         dofs_);
   }
@@ -370,6 +393,7 @@ class LoadStep {
   std::unique_ptr<FBarCells<dim>> fbar_;
   PointPartition part_;  ///< the points of each rank (one run of every point when not split)
   DofMap dofs_;
+  std::vector<char> owned_;  ///< distributed, with contacts: whether each point is this rank's
   std::vector<int> my_cells_;               ///< F-bar: the cells of this rank's points (all of their points are its)
   std::unique_ptr<GhostFaces<dim>> ghost_;  ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
   std::unique_ptr<RigidContact<dim>> contact_;  ///< rigid boxes' contacts (mpm/RigidContact.hpp); null without

@@ -67,10 +67,12 @@ class RigidContact {
     }
   }
 
-  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force.
-  void add_matrix(SparseMatrix& K) const {
+  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force (of
+  /// the points flagged in `owned` only, when given: a distributed run's share).
+  void add_matrix(SparseMatrix& K, const std::vector<char>* owned = nullptr) const {
     double* values = K.valuePtr();
     for (const Contact& c : contacts_) {
+      if (owned && !(*owned)[c.point]) continue;
       const Stencil<dim>& s = st_[c.point];
       for (int b = 0; b < s.count; ++b) {
         const int col = dofs_.dof(s.node[b], c.axis);

@@ -104,7 +104,13 @@ class Petsc final : public LinearSolver {
           position_[k] = next[it.row() - first_]++;
           columns[position_[k]] = c;
         }
-    if (description_.shares) share_other_rows(A, n);
+    if (description_.shares) {
+      share_other_rows(A, n);
+      // Each rank's share holds only its points' couplings: this rank's rows get the
+      // columns the other ranks' shares reach in them too (their pattern, exchanged once
+      // per analysis), so that the matrix is preallocated for the sum of the shares.
+      add_columns_of_other_shares(row_start, columns);
+    }
     const PetscInt row_start_end = row_start[m];
     local_values_.assign(row_start_end, 0.0);
     check(MatCreate(comm(), &matrix_), "MatCreate");
@@ -240,6 +246,69 @@ class Petsc final : public LinearSolver {
           other_columns_[at] = c;
           position_[k] = -1 - at;
         }
+  }
+
+  /// With shares: sends the columns of this share's entries in other ranks' rows to
+  /// their owners and merges the columns received into this rank's rows (row_start,
+  /// columns: compressed rows, columns ascending), renumbering position_ to match.
+  void add_columns_of_other_shares(std::vector<PetscInt>& row_start, std::vector<PetscInt>& columns) {
+    const int size = ranks::size();
+    std::vector<PetscInt> row_offset(size + 1, 0);  // rank r owns rows [row_offset[r], row_offset[r + 1])
+    for (int r = 0; r < size; ++r) row_offset[r + 1] = row_offset[r] + row_counts_[r];
+    std::vector<std::vector<PetscInt>> out(size);  // per owner: row, count, columns...
+    for (std::size_t k = 0; k < other_rows_.size(); ++k) {
+      const PetscInt row = other_rows_[k];
+      const int owner = static_cast<int>(std::upper_bound(row_offset.begin(), row_offset.end(), row) - row_offset.begin()) - 1;
+      auto& o = out[owner];
+      o.push_back(row);
+      o.push_back(other_start_[k + 1] - other_start_[k]);
+      o.insert(o.end(), other_columns_.begin() + other_start_[k], other_columns_.begin() + other_start_[k + 1]);
+    }
+    std::vector<int> send_count(size), recv_count(size), send_at(size + 1, 0), recv_at(size + 1, 0);
+    for (int r = 0; r < size; ++r) send_count[r] = static_cast<int>(out[r].size());
+    check(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, PETSC_COMM_WORLD),
+          "MPI_Alltoall (the shares' patterns)");
+    for (int r = 0; r < size; ++r) {
+      send_at[r + 1] = send_at[r] + send_count[r];
+      recv_at[r + 1] = recv_at[r] + recv_count[r];
+    }
+    std::vector<PetscInt> send(send_at[size]), received(recv_at[size]);
+    for (int r = 0; r < size; ++r) std::copy(out[r].begin(), out[r].end(), send.begin() + send_at[r]);
+    check(MPI_Alltoallv(send.data(), send_count.data(), send_at.data(), MPIU_INT, received.data(), recv_count.data(),
+                        recv_at.data(), MPIU_INT, PETSC_COMM_WORLD),
+          "MPI_Alltoallv (the shares' patterns)");
+    const PetscInt m = last_ - first_;
+    std::vector<std::vector<PetscInt>> extra(m);
+    for (std::size_t i = 0; i < received.size();) {
+      const PetscInt row = received[i], count = received[i + 1];
+      auto& e = extra[row - first_];
+      e.insert(e.end(), received.begin() + static_cast<std::ptrdiff_t>(i) + 2,
+               received.begin() + static_cast<std::ptrdiff_t>(i) + 2 + count);
+      i += 2 + static_cast<std::size_t>(count);
+    }
+    std::vector<PetscInt> merged_start(m + 1, 0), merged, renumber(columns.size());
+    merged.reserve(columns.size());
+    for (PetscInt r = 0; r < m; ++r) {
+      auto& e = extra[r];
+      std::sort(e.begin(), e.end());
+      e.erase(std::unique(e.begin(), e.end()), e.end());
+      PetscInt i = row_start[r];
+      std::size_t j = 0;
+      while (i < row_start[r + 1] || j < e.size()) {
+        if (j == e.size() || (i < row_start[r + 1] && columns[i] <= e[j])) {
+          if (j < e.size() && columns[i] == e[j]) ++j;
+          renumber[i] = static_cast<PetscInt>(merged.size());
+          merged.push_back(columns[i++]);
+        } else {
+          merged.push_back(e[j++]);
+        }
+      }
+      merged_start[r + 1] = static_cast<PetscInt>(merged.size());
+    }
+    for (auto& p : position_)
+      if (p >= 0) p = renumber[p];
+    row_start = std::move(merged_start);
+    columns = std::move(merged);
   }
 
   void set_rigid_body_modes(int bs) {
