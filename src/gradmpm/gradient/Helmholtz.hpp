@@ -9,8 +9,10 @@
 // points, the same quadrature as the stiffness. The matrix is scalar (one unknown per node), factored once and reused
 // for every component and every right-hand side. Without Dirichlet dofs the boundary condition is the natural one, grad
 // g . n = 0.
+#include <stdexcept>
 #include <vector>
 
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
@@ -22,12 +24,19 @@ class HelmholtzSmoother {
  public:
   /// `scalar_pattern`: build_pattern() for one component per node. `dirichlet_dofs`:
   /// equations whose value is prescribed in every smoothing (u-RA); empty for natural BCs.
+  /// `shares`: a distributed run's, where the assembler visits this rank's points and
+  /// the pattern is their share (build_share_pattern, with the diagonal on rank 0): the
+  /// solver adds the ranks' matrices up, and the loads are summed over the ranks.
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
-                    const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {})
-      : assembler_(assembler), solver_(make_linear_solver(solver)) {
+                    const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {},
+                    bool shares = false)
+      : assembler_(assembler), solver_(make_linear_solver(solver)), shares_(shares) {
+    if (shares && !solver_->adds_shares())
+      throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
-    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs);
+    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, shares);
+    if (shares) solver_->describe(SystemDescription{1, nullptr, true});
     solver_->compute(A);
   }
 
@@ -38,8 +47,12 @@ class HelmholtzSmoother {
   }
 
   /// Natural-boundary smoothing of several fields at once: column j of `f` is the load
-  /// of field j (Assembler::load_columns); one solve sweep serves all.
-  Eigen::MatrixXd smooth_loads(const Eigen::MatrixXd& f) const { return solver_->solve(f); }
+  /// of field j (Assembler::load_columns; with shares, of this rank's points); one solve
+  /// sweep serves all.
+  Eigen::MatrixXd smooth_loads(Eigen::MatrixXd f) const {
+    if (shares_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));
+    return solver_->solve(f);
+  }
 
   /// Seconds its sparse solver has taken in factorisation and solves (not the analysis).
   double solver_seconds() const { return solver_->seconds(); }
@@ -52,6 +65,7 @@ class HelmholtzSmoother {
 
  private:
   Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
+    if (shares_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));  // this rank's points' load
     if (!dirichlet_.dofs().empty()) dirichlet_.apply_to_rhs(f, dirichlet_values);
     return solver_->solve(f);
   }
@@ -59,6 +73,7 @@ class HelmholtzSmoother {
   const Assembler<dim>& assembler_;
   DirichletElimination dirichlet_;
   std::unique_ptr<LinearSolver> solver_;
+  bool shares_;
 };
 
 }  // namespace gradmpm

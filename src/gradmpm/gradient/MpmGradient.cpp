@@ -10,6 +10,7 @@
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
+#include "gradmpm/mpm/PointPartition.hpp"
 #include "gradmpm/points/Transfer.hpp"
 
 namespace gradmpm {
@@ -28,8 +29,12 @@ class SmoothingContext {
         backend_(backend),
         st_(evaluate_stencils(m.grid, m.points, m.basis)),
         dofs_(st_, m.grid.num_nodes(), 1),
-        pattern_(build_pattern(st_, dofs_)),
-        assembler_(st_, m.points, dofs_, &m.grid) {}
+        split_(ranks::distributed()),
+        part_(split_ ? partition_points(lowest_stencil_nodes(st_, m.grid.num_nodes()), m.grid.num_nodes(), ranks::size())
+                     : every_point(m.points.size())),
+        assembler_(st_, m.points, dofs_, &m.grid, part_.begin(ranks::rank()), part_.end(ranks::rank())),
+        pattern_(split_ ? build_share_pattern(st_, assembler_.subset(), dofs_, ranks::rank() == 0)
+                        : build_pattern(st_, dofs_)) {}
 
   /// Natural-boundary smoothing of a symmetric tensor field at the points: the
   /// components that can be non-zero in `dim` (in-plane ones and the out-of-plane
@@ -44,14 +49,14 @@ class SmoothingContext {
       if (c.i == c.j || (c.i < dim && c.j < dim)) comps.push_back({c.i, c.j});
     const int nc = static_cast<int>(comps.size());
     if (!natural_)
-      natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_);
+      natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_, split_);
     Eigen::MatrixXd F = assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); });
     Eigen::MatrixXd G = natural_->smooth_loads(F);
     for (int j = 0; j < nc; ++j) {
       const std::vector<int> zero = odd_dofs(comps[j][0], comps[j][1]);
       if (zero.empty()) continue;
       auto& sm = by_constraints_[zero];
-      if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, zero, backend_);
+      if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, zero, backend_, split_);
       Eigen::MatrixXd f = F.col(j);
       for (int d : zero) f(d, 0) = 0.0;
       G.col(j) = sm->smooth_loads(f).col(0);
@@ -100,7 +105,7 @@ class SmoothingContext {
       for (int d : dofs) values.push_back(projected[d]);
     }
     auto& sm = by_constraints_[dofs];
-    if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs, backend_);
+    if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs, backend_, split_);
     return sm->smooth_point_field(c, values);
   }
 
@@ -112,15 +117,23 @@ class SmoothingContext {
   Vector project(const std::vector<double>& c) {
     if (!projector_ && !lumped_) {
       try {
-        projector_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_);
+        projector_ =
+            std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, 0.0, std::vector<int>{}, backend_, split_);
       } catch (const SolverError&) {
-        lumped_ = assembler_.load(std::vector<double>(c.size(), 1.0));
+        lumped_ = summed_load(std::vector<double>(c.size(), 1.0));
       }
     }
     if (projector_) return projector_->smooth_point_field(c);
-    Vector u = assembler_.load(c);
+    Vector u = summed_load(c);
     for (Eigen::Index i = 0; i < u.size(); ++i) u[i] = (*lumped_)[i] > 0.0 ? u[i] / (*lumped_)[i] : 0.0;
     return u;
+  }
+
+  /// sum_p N_i c_p V_p over every point (a distributed run's ranks add their points').
+  Vector summed_load(const std::vector<double>& c) const {
+    Vector f = assembler_.load(c);
+    if (split_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));
+    return f;
   }
 
   /// Seconds the sparse solvers of this context have taken.
@@ -150,8 +163,10 @@ class SmoothingContext {
   LinearSolverSettings backend_;
   PointStencils<dim> st_;
   DofMap dofs_;
-  SparseMatrix pattern_;
+  bool split_;           ///< distributed: each rank assembles its points' share (HelmholtzSmoother)
+  PointPartition part_;  ///< the points of each rank (one run of every point when not split)
   Assembler<dim> assembler_;
+  SparseMatrix pattern_;
   std::unique_ptr<HelmholtzSmoother<dim>> natural_, projector_;
   std::optional<Vector> lumped_;  ///< nodal masses (per unit density) when the consistent projection is singular
   std::map<std::vector<int>, std::unique_ptr<HelmholtzSmoother<dim>>> by_constraints_;

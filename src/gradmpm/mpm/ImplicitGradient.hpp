@@ -30,6 +30,7 @@
 
 #include "gradmpm/gradient/Helmholtz.hpp"
 #include "gradmpm/mpm/Model.hpp"
+#include "gradmpm/mpm/PointPartition.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/DofMap.hpp"
 
@@ -69,8 +70,9 @@ class NonlocalPlasticStrain {
   std::vector<Slots> slots_;     ///< per material
   PointStencils<dim> stencils_;  ///< the step's, emptied for points that are not regularised
   DofMap dofs_;
-  SparseMatrix pattern_;
+  PointPartition part_;  ///< a distributed run's: each rank assembles its points' share
   Assembler<dim> assembler_;
+  SparseMatrix pattern_;
   HelmholtzSmoother<dim> smoother_;
   std::vector<int> regularised_points_;
   std::vector<Eigen::VectorXd> dx_, df_;  ///< differences of the last iterates and residuals

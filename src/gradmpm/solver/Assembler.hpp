@@ -157,10 +157,10 @@ class Assembler {
     return q;
   }
 
-  /// f_i = sum_p N_i(x_p) q_p V_p   (eq. 1 with a point "force" q_p V_p)
+  /// f_i = sum_p N_i(x_p) q_p V_p   (eq. 1 with a point "force" q_p V_p), over the subset
   Vector load(const std::vector<double>& q) const {
     Vector f = Vector::Zero(dofs_.num_dofs());
-    for (int p = 0; p < points_.size(); ++p) {
+    for (const int p : subset_) {
       const Stencil<dim>& s = st_[p];
       for (int a = 0; a < s.count; ++a) f[dofs_.dof(s.node[a], 0)] += s.N[a] * q[p] * points_.volume[p];
     }
@@ -183,7 +183,10 @@ class Assembler {
     return F;
   }
 
-  /// The nodal fields G (one per column, equation numbering) at every point:
+  /// The points the loops visit (ascending).
+  const std::vector<int>& subset() const { return subset_; }
+
+  /// The nodal fields G (one per column, equation numbering) at every point (not only the subset's):
   /// out(p, j, value) receives sum_i N_i(x_p) G(i, j). Threads over points.
   template <class Derived, class Out>
   void interpolate_columns(const Eigen::MatrixBase<Derived>& G, Out&& out) const {

@@ -110,6 +110,19 @@ SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
       dofs);
 }
 
+/// A distributed run's share of a pattern: the stencils of `points` only (this rank's),
+/// and with `diagonal` the diagonal block of every active node (rank 0's share holds the
+/// constrained diagonals, DirichletElimination). The solver adds the ranks' patterns up.
+template <int dim>
+SparseMatrix build_share_pattern(const PointStencils<dim>& st, const std::vector<int>& points, const DofMap& dofs,
+                                 bool diagonal) {
+  const int n_points = static_cast<int>(points.size());
+  return build_pattern_of_groups(
+      n_points + (diagonal ? dofs.num_active_nodes() : 0),
+      [&](int g) { return g < n_points ? st[points[g]].count : 1; },
+      [&](int g, int a) { return g < n_points ? st[points[g]].node[a] : dofs.node_of(g - n_points); }, dofs);
+}
+
 /// The pattern of node groups given as lists.
 inline SparseMatrix build_pattern(const std::vector<std::vector<int>>& groups, const DofMap& dofs) {
   return build_pattern_of_groups(

@@ -28,8 +28,9 @@ struct SystemDescription {
   /// One row per node of the system, in equation order: x, y, z (dim columns). Computed
   /// only when called; empty function: not known.
   std::function<Eigen::MatrixXd()> node_coordinates;
-  /// A distributed run's Newton tangent: each rank passes its share of the matrix (its
-  /// points' contributions, zero elsewhere) and the solver adds the shares up. Only a
+  /// A distributed run's matrix (the Newton tangent, a Helmholtz system): each rank passes
+  /// its share (its points' contributions, with its points' pattern only) and the solver
+  /// adds the shares up. Only a
   /// solver that adds_shares() may be told so.
   bool shares = false;
 };
