@@ -68,6 +68,10 @@ class LoadStep {
     f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
     if (fbar_)
       my_cells_ = fbar_->cells_of(part_.begin(split_ ? ranks::rank() : 0), part_.end(split_ ? ranks::rank() : 0));
+    if (split_) {
+      slot_.assign(m.points.size(), -1);
+      for (int k = 0; k < part_.count(ranks::rank()); ++k) slot_[part_.begin(ranks::rank())[k]] = k;
+    }
     if (split_ && contact_) {
       owned_.assign(m.points.size(), 0);
       for (const int* p = part_.begin(ranks::rank()); p != part_.end(ranks::rank()); ++p) owned_[*p] = 1;
@@ -104,8 +108,8 @@ class LoadStep {
     const int np = pts.size(), rank = split_ ? ranks::rank() : 0, mine = part_.count(rank);
     const int* my_points = part_.begin(rank);
     f_int = Vector::Zero(dofs_.num_dofs());
-    grads_.resize(np);
-    weights_.resize(np);
+    grads_.resize(mine);
+    weights_.resize(mine);
     int inverted = std::numeric_limits<int>::max();
     double inverted_det = 0.0;
 #pragma omp parallel for schedule(static) if (use_threads(mine))
@@ -126,7 +130,7 @@ class LoadStep {
       const Material& mat = model_.material_of(p);
       mat.update_increment(g, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride,
                            response_[p]);
-      auto& G = grads_[p];  // gradients in the configuration the stress lives in
+      auto& G = grads_[k];  // gradients in the configuration the stress lives in
       if (mat.finite_strain()) {
         const Mat3 inv = dF.inverse();
         for (int a = 0; a < s.count; ++a)
@@ -135,10 +139,10 @@ class LoadStep {
             for (int m = 0; m < dim; ++m) v += s.dN[a][m] * inv(m, l);
             G[a][l] = v;
           }
-        weights_[p] = pts.original_volume[p];  // Kirchhoff stress on V_p = sigma on v_p
+        weights_[k] = pts.original_volume[p];  // Kirchhoff stress on V_p = sigma on v_p
       } else {
         for (int a = 0; a < s.count; ++a) G[a] = s.dN[a];
-        weights_[p] = pts.volume[p];
+        weights_[k] = pts.volume[p];
       }
     }
     if (split_) lowest_over_ranks(inverted, inverted_det, np);  // every rank fails, or none
@@ -156,9 +160,9 @@ class LoadStep {
       std::array<Vec<dim>, Stencil<dim>::capacity> f;
       for (int a = 0; a < s.count; ++a) f[a].setZero();
       for (const int* q = first; q != last; ++q) {
-        const auto& G = grads_[*q];
+        const auto& G = grads_[slot(*q)];
         const Mat3& stress = response_[*q].stress;
-        const double w = weights_[*q];
+        const double w = weights_[slot(*q)];
         for (int a = 0; a < s.count; ++a)
           for (int i = 0; i < dim; ++i) {
             double v = 0.0;
@@ -188,17 +192,18 @@ class LoadStep {
     else
       K = pattern_;
     last_stiffness_ = &K;
-    if (fbar_) fbar_q_.resize(model_.points.size());
+    if (fbar_) fbar_q_.resize(grads_.size());
     const bool symmetric = model_.symmetric_tangent();
     assembler_.add_matrix(
         K,
         [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
           // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
-          const auto& G = grads_[p];
+          const int k = slot(p);
+          const auto& G = grads_[k];
           Mat9 A;
           model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
-          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[p]);
-          const double w = weights_[p];
+          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[k]);
+          const double w = weights_[k];
           for (int b = 0; b < s.count; ++b) {
             double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
             for (int i = 0; i < dim; ++i)
@@ -218,7 +223,8 @@ class LoadStep {
           }
         },
         symmetric);
-    if (fbar_) fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
+    if (fbar_) fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_,
+                                  split_ ? slot_.data() : nullptr);
     if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_matrix(dofs_, K);
     if (contact_) contact_->add_matrix(K, split_ ? &owned_ : nullptr);
   }
@@ -340,8 +346,8 @@ class LoadStep {
     const int np = pts.size(), rank = split_ ? ranks::rank() : 0, mine = part_.count(rank);
     const int* my_points = part_.begin(rank);
     f_int = Vector::Zero(dofs_.num_dofs());
-    grads_.resize(np);
-    weights_.resize(np);
+    grads_.resize(mine);
+    weights_.resize(mine);
     auto [inverted, det] = volume_changes(du, my_points, mine, &my_cells_);
     if (split_) lowest_over_ranks(inverted, det, np);  // every rank fails, or none
     if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
@@ -352,14 +358,14 @@ class LoadStep {
       model_.material_of(p).update(material_increment(p, fbar_dF_[p]), pts.state_of(p),
                                    trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
       const Mat3 inv = fbar_dF_[p].inverse();
-      auto& G = grads_[p];
+      auto& G = grads_[k];
       for (int a = 0; a < s.count; ++a)
         for (int l = 0; l < dim; ++l) {
           double v = 0.0;
           for (int m = 0; m < dim; ++m) v += s.dN[a][m] * inv(m, l);
           G[a][l] = v;
         }
-      weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
+      weights_[k] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
     }
     scatter_internal_force(du, f_int);
   }
@@ -380,6 +386,10 @@ class LoadStep {
     fbar_->average(fbar_dJ_, fbar_dJbar_, cells);
     return {inverted, inverted < np ? fbar_dJ_[inverted] : 0.0};
   }
+
+  /// Point p's place in grads_ and weights_ (this rank's points, in part_'s order; a
+  /// serial run's part_ is every point in index order).
+  int slot(int p) const { return split_ ? slot_[p] : p; }
 
   /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in the plane.
   Mat3 material_increment(int p, Mat3 dF) const {
@@ -410,8 +420,11 @@ class LoadStep {
   std::vector<MaterialResponse, DefaultInitAllocator<MaterialResponse>> response_;
   std::vector<double> trial_state_;  ///< the state block of the current iterate
   Vector f_int_converged_;           ///< f_int at the converged iterate (reactions)
+  /// Of this rank's points only, in part_'s order (slot(p)): the gradients of their
+  /// shape functions in the configuration their stress lives in, and their weights.
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
   std::vector<double> weights_;
+  std::vector<int> slot_;  ///< distributed: point -> its place among this rank's points (-1: another rank's)
 };
 
 }  // namespace gradmpm::detail
