@@ -4,9 +4,11 @@
 // test program, a build without PETSc and MPI) there is one rank and every operation is
 // the identity, so serial code calls them unconditionally.
 //
-// Every rank holds every point (replicated data, stage 1 of issue 14): the ranks split the
-// point loops of Newton (material updates, internal force, tangent) and PETSc splits the
-// linear solves; everything else runs identically on every rank. Sums are reduced to rank
+// Every rank holds every point (replicated points, stages 1 to 3 of issue 14): the ranks
+// split the point loops of Newton (material updates, internal force, tangent) and of the
+// Helmholtz systems, each rank's sparse matrices holding its points' share, and PETSc adds
+// the shares up and splits the linear solves; everything else runs identically on every
+// rank. Sums are reduced to rank
 // 0 and broadcast, so every rank sees the same bits and takes the same branches (a
 // Newton decision never differs between ranks).
 #include <cstddef>
