@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Requirement (issue 14): an error on N MPI ranks stops every rank with one message and
 # the serial exit code, never a hang: a solver that cannot run distributed (exit 2, the
-# key named), an output folder rank 0 cannot create (exit 2), a Newton failure (exit 1).
+# key named), an output folder rank 0 cannot create (exit 2), a Newton failure (exit 1),
+# points leaving the grid (exit 1, their ids named once).
 #
 #   errors.sh GRADMPM MPIEXEC CASE WORKDIR
 set -uo pipefail
@@ -27,4 +28,8 @@ expect 2 "gradmpm: error" "$work/b.log" $?
 run --out "$work/c" --set linear_solver.type=petsc --set nonlinear_solver.max_iterations=1 \
   --set nonlinear_solver.max_cuts=0 >"$work/c.log" 2>&1
 expect 1 "solver failure" "$work/c.log" $?
+# The footing pulled up 1.5 (the grid ends 0.75 above the body): points leave the grid.
+run --out "$work/d" --set linear_solver.type=petsc --set mpm.fbar=false --set load_steps.count=2 \
+  --set 'constraints[3].displacement=[0.0,1.5]' >"$work/d.log" 2>&1
+expect 1 "material point(s) outside the grid (ids)" "$work/d.log" $?
 exit $failed
