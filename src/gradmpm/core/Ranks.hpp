@@ -8,9 +8,8 @@
 // split the point loops of Newton (material updates, internal force, tangent) and of the
 // Helmholtz systems, each rank's sparse matrices holding its points' share, and PETSc adds
 // the shares up and splits the linear solves; everything else runs identically on every
-// rank. Sums are reduced to rank
-// 0 and broadcast, so every rank sees the same bits and takes the same branches (a
-// Newton decision never differs between ranks).
+// rank. Sums are reduced to rank 0 and broadcast, so every rank sees the same bits and
+// takes the same branches (a Newton decision never differs between ranks).
 #include <cstddef>
 #include <functional>
 #include <vector>

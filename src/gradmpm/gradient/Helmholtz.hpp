@@ -25,7 +25,7 @@ class HelmholtzSmoother {
   /// `scalar_pattern`: build_pattern() for one component per node. `dirichlet_dofs`:
   /// equations whose value is prescribed in every smoothing (u-RA); empty for natural BCs.
   /// `shares`: a distributed run's, where the assembler visits this rank's points and
-  /// the pattern is their share (build_share_pattern, with the diagonal on rank 0): the
+  /// the pattern is their share (build_rank_pattern): the
   /// solver adds the ranks' matrices up, and the loads are summed over the ranks.
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
                     const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {},

@@ -30,11 +30,9 @@ class SmoothingContext {
         st_(evaluate_stencils(m.grid, m.points, m.basis)),
         dofs_(st_, m.grid.num_nodes(), 1),
         split_(ranks::distributed()),
-        part_(split_ ? partition_points(lowest_stencil_nodes(st_, m.grid.num_nodes()), m.grid.num_nodes(), ranks::size())
-                     : every_point(m.points.size())),
+        part_(stencil_partition(st_, m.grid.num_nodes())),
         assembler_(st_, m.points, dofs_, &m.grid, part_.begin(ranks::rank()), part_.end(ranks::rank())),
-        pattern_(split_ ? build_share_pattern(st_, assembler_.subset(), dofs_, ranks::rank() == 0)
-                        : build_pattern(st_, dofs_)) {}
+        pattern_(build_rank_pattern(st_, assembler_.subset(), dofs_)) {}
 
   /// Natural-boundary smoothing of a symmetric tensor field at the points: the
   /// components that can be non-zero in `dim` (in-plane ones and the out-of-plane
@@ -49,7 +47,8 @@ class SmoothingContext {
       if (c.i == c.j || (c.i < dim && c.j < dim)) comps.push_back({c.i, c.j});
     const int nc = static_cast<int>(comps.size());
     if (!natural_)
-      natural_ = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_, split_);
+      natural_ =
+          std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_, split_);
     Eigen::MatrixXd F = assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); });
     Eigen::MatrixXd G = natural_->smooth_loads(F);
     for (int j = 0; j < nc; ++j) {

@@ -98,8 +98,7 @@ class FBarCells {
   template <class Gradients>
   void add_coupling(SparseMatrix& K, const std::vector<int>& cells, const PointStencils<dim>& st, const DofMap& dofs,
                     const Gradients& grads, const std::vector<double>& weights, const std::vector<Mat3>& Q,
-                    const std::vector<double>& dJ, const std::vector<double>& dJbar,
-                    const int* slot = nullptr) const {
+                    const std::vector<double>& dJ, const std::vector<double>& dJbar, const int* slot = nullptr) const {
     double* values = K.valuePtr();
     for (const int c : cells) {
       const auto& nodes = nodes_[c];

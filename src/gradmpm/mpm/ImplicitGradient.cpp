@@ -74,12 +74,9 @@ NonlocalPlasticStrain<dim>::NonlocalPlasticStrain(const Model<dim>& m, const Poi
       }()),
       stencils_(regularised_stencils(m, stencils, regularised_materials(slots_))),
       dofs_(stencils_, m.grid.num_nodes(), 1),
-      part_(ranks::distributed() ? partition_points(lowest_stencil_nodes(stencils_, m.grid.num_nodes()),
-                                                    m.grid.num_nodes(), ranks::size())
-                                 : every_point(m.points.size())),
+      part_(stencil_partition(stencils_, m.grid.num_nodes())),
       assembler_(stencils_, m.points, dofs_, &m.grid, part_.begin(ranks::rank()), part_.end(ranks::rank())),
-      pattern_(ranks::distributed() ? build_share_pattern(stencils_, assembler_.subset(), dofs_, ranks::rank() == 0)
-                                    : build_pattern(stencils_, dofs_)),
+      pattern_(build_rank_pattern(stencils_, assembler_.subset(), dofs_)),
       smoother_(assembler_, pattern_, m.regularisation.length_scale, {}, solver, ranks::distributed()) {
   for (int p = 0; p < m.points.size(); ++p)
     if (slots_[m.points.material[p]].nonlocal >= 0) regularised_points_.push_back(p);

@@ -72,10 +72,6 @@ class LoadStep {
       slot_.assign(m.points.size(), -1);
       for (int k = 0; k < part_.count(ranks::rank()); ++k) slot_[part_.begin(ranks::rank())[k]] = k;
     }
-    if (split_ && contact_) {
-      owned_.assign(m.points.size(), 0);
-      for (const int* p = part_.begin(ranks::rank()); p != part_.end(ranks::rank()); ++p) owned_[*p] = 1;
-    }
     pattern_ = make_pattern();  // after the constraints and this rank's cells
   }
 
@@ -223,10 +219,11 @@ class LoadStep {
           }
         },
         symmetric);
-    if (fbar_) fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_,
-                                  split_ ? slot_.data() : nullptr);
+    if (fbar_)
+      fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_,
+                          split_ ? slot_.data() : nullptr);
     if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_matrix(dofs_, K);
-    if (contact_) contact_->add_matrix(K, split_ ? &owned_ : nullptr);
+    if (contact_) contact_->add_matrix(K, [&](int p) { return !split_ || slot_[p] >= 0; });
   }
 
   /// Eq. (2): maps the converged increment to the points and updates their state. (A
@@ -403,7 +400,6 @@ class LoadStep {
   std::unique_ptr<FBarCells<dim>> fbar_;
   PointPartition part_;  ///< the points of each rank (one run of every point when not split)
   DofMap dofs_;
-  std::vector<char> owned_;  ///< distributed, with contacts: whether each point is this rank's
   std::vector<int> my_cells_;               ///< F-bar: the cells of this rank's points (all of their points are its)
   std::unique_ptr<GhostFaces<dim>> ghost_;  ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
   std::unique_ptr<RigidContact<dim>> contact_;  ///< rigid boxes' contacts (mpm/RigidContact.hpp); null without

@@ -69,6 +69,14 @@ inline PointPartition partition_points(const std::vector<int>& key, int num_node
   return part;
 }
 
+/// The points of each rank for an operator assembled from the stencils `st` (the Helmholtz
+/// systems): by the lowest node of their stencil; every point on rank 0 in a serial run.
+template <int dim>
+PointPartition stencil_partition(const PointStencils<dim>& st, int num_nodes) {
+  if (!ranks::distributed()) return every_point(static_cast<int>(st.size()));
+  return partition_points(lowest_stencil_nodes(st, num_nodes), num_nodes, ranks::size());
+}
+
 /// A distributed run's failed point: the lowest `point` over the ranks (`none` where no
 /// rank has one) and the `value` its owner found for it, on every rank.
 inline void lowest_over_ranks(int& point, double& value, int none) {

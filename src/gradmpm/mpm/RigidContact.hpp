@@ -67,12 +67,13 @@ class RigidContact {
     }
   }
 
-  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force (of
-  /// the points flagged in `owned` only, when given: a distributed run's share).
-  void add_matrix(SparseMatrix& K, const std::vector<char>* owned = nullptr) const {
+  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force of the
+  /// points p with mine(p) (a distributed run's share: this rank's points).
+  template <class Mine>
+  void add_matrix(SparseMatrix& K, Mine&& mine) const {
     double* values = K.valuePtr();
     for (const Contact& c : contacts_) {
-      if (owned && !(*owned)[c.point]) continue;
+      if (!mine(c.point)) continue;
       const Stencil<dim>& s = st_[c.point];
       for (int b = 0; b < s.count; ++b) {
         const int col = dofs_.dof(s.node[b], c.axis);

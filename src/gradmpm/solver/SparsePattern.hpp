@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/solver/DofMap.hpp"
 
 namespace gradmpm {
@@ -110,12 +111,15 @@ SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
       dofs);
 }
 
-/// A distributed run's share of a pattern: the stencils of `points` only (this rank's),
-/// and with `diagonal` the diagonal block of every active node (rank 0's share holds the
-/// constrained diagonals, DirichletElimination). The solver adds the ranks' patterns up.
+/// The pattern of this rank's share of an operator whose rank assembles `points` (its
+/// own): in a distributed run their stencils only, and on rank 0 the diagonal block of
+/// every active node too (rank 0's share holds the constrained diagonals,
+/// DirichletElimination); the solver adds the ranks' patterns up. A serial run's is
+/// build_pattern()'s.
 template <int dim>
-SparseMatrix build_share_pattern(const PointStencils<dim>& st, const std::vector<int>& points, const DofMap& dofs,
-                                 bool diagonal) {
+SparseMatrix build_rank_pattern(const PointStencils<dim>& st, const std::vector<int>& points, const DofMap& dofs) {
+  if (!ranks::distributed()) return build_pattern(st, dofs);
+  const bool diagonal = ranks::rank() == 0;
   const int n_points = static_cast<int>(points.size());
   return build_pattern_of_groups(
       n_points + (diagonal ? dofs.num_active_nodes() : 0),

@@ -30,8 +30,7 @@ struct SystemDescription {
   std::function<Eigen::MatrixXd()> node_coordinates;
   /// A distributed run's matrix (the Newton tangent, a Helmholtz system): each rank passes
   /// its share (its points' contributions, with its points' pattern only) and the solver
-  /// adds the shares up. Only a
-  /// solver that adds_shares() may be told so.
+  /// adds the shares up. Only a solver that adds_shares() may be told so.
   bool shares = false;
 };
 

@@ -255,25 +255,25 @@ class Petsc final : public LinearSolver {
     const int size = ranks::size();
     std::vector<PetscInt> row_offset(size + 1, 0);  // rank r owns rows [row_offset[r], row_offset[r + 1])
     for (int r = 0; r < size; ++r) row_offset[r + 1] = row_offset[r] + row_counts_[r];
-    std::vector<std::vector<PetscInt>> out(size);  // per owner: row, count, columns...
+    // Per row: row, count, columns... Rows ascend, so their owners' blocks come in rank order.
+    std::vector<PetscInt> send;
+    std::vector<int> send_count(size, 0), recv_count(size), send_at(size + 1, 0), recv_at(size + 1, 0);
     for (std::size_t k = 0; k < other_rows_.size(); ++k) {
-      const PetscInt row = other_rows_[k];
-      const int owner = static_cast<int>(std::upper_bound(row_offset.begin(), row_offset.end(), row) - row_offset.begin()) - 1;
-      auto& o = out[owner];
-      o.push_back(row);
-      o.push_back(other_start_[k + 1] - other_start_[k]);
-      o.insert(o.end(), other_columns_.begin() + other_start_[k], other_columns_.begin() + other_start_[k + 1]);
+      const PetscInt row = other_rows_[k], count = other_start_[k + 1] - other_start_[k];
+      const int owner =
+          static_cast<int>(std::upper_bound(row_offset.begin(), row_offset.end(), row) - row_offset.begin()) - 1;
+      send.push_back(row);
+      send.push_back(count);
+      send.insert(send.end(), other_columns_.begin() + other_start_[k], other_columns_.begin() + other_start_[k + 1]);
+      send_count[owner] += static_cast<int>(2 + count);
     }
-    std::vector<int> send_count(size), recv_count(size), send_at(size + 1, 0), recv_at(size + 1, 0);
-    for (int r = 0; r < size; ++r) send_count[r] = static_cast<int>(out[r].size());
     check(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, PETSC_COMM_WORLD),
           "MPI_Alltoall (the shares' patterns)");
     for (int r = 0; r < size; ++r) {
       send_at[r + 1] = send_at[r] + send_count[r];
       recv_at[r + 1] = recv_at[r] + recv_count[r];
     }
-    std::vector<PetscInt> send(send_at[size]), received(recv_at[size]);
-    for (int r = 0; r < size; ++r) std::copy(out[r].begin(), out[r].end(), send.begin() + send_at[r]);
+    std::vector<PetscInt> received(recv_at[size]);
     check(MPI_Alltoallv(send.data(), send_count.data(), send_at.data(), MPIU_INT, received.data(), recv_count.data(),
                         recv_at.data(), MPIU_INT, PETSC_COMM_WORLD),
           "MPI_Alltoallv (the shares' patterns)");
