@@ -67,6 +67,25 @@ int min(int value) {
   return value;
 }
 
+void max(int* v, std::size_t n) {
+  if (size() > 1 && n > 0) MPI_Allreduce(MPI_IN_PLACE, v, static_cast<int>(n), MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+}
+
+void max(double* v, std::size_t n) {
+  if (size() > 1 && n > 0) MPI_Allreduce(MPI_IN_PLACE, v, static_cast<int>(n), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+}
+
+std::vector<int> all_gather(const std::vector<int>& mine) {
+  if (size() == 1) return mine;
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(size()), offsets(size(), 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
+  std::vector<int> all(static_cast<std::size_t>(offsets.back()) + counts.back());
+  MPI_Allgatherv(mine.data(), count, MPI_INT, all.data(), counts.data(), offsets.data(), MPI_INT, MPI_COMM_WORLD);
+  return all;
+}
+
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
   std::vector<int> offsets(counts.size(), 0);
   std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
@@ -99,6 +118,9 @@ Session::~Session() {
 }
 void sum(double*, std::size_t) {}
 int min(int value) { return value; }
+void max(int*, std::size_t) {}
+void max(double*, std::size_t) {}
+std::vector<int> all_gather(const std::vector<int>& mine) { return mine; }
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
   std::copy(mine, mine + counts[0], all);
 }

@@ -4,12 +4,12 @@
 // test program, a build without PETSc and MPI) there is one rank and every operation is
 // the identity, so serial code calls them unconditionally.
 //
-// Every rank holds every point (replicated points, stages 1 to 3 of issue 14): the ranks
-// split the point loops of Newton (material updates, internal force, tangent) and of the
-// Helmholtz systems, each rank's sparse matrices holding its points' share, and PETSc adds
-// the shares up and splits the linear solves; everything else runs identically on every
-// rank. Sums are reduced to rank 0 and broadcast, so every rank sees the same bits and
-// takes the same branches (a Newton decision never differs between ranks).
+// Every rank holds every point between load steps (replicated points, issue 14); a load
+// step and the gradient step work on this rank's points only (mpm/RankPoints.hpp): their
+// stencils, Newton's point loops, the sparse matrices' shares (PETSc adds them up and
+// splits the linear solves), the map to the points, after which the ranks swap the
+// points' results. Everything else runs identically on every rank. Sums are reduced to rank 0 and broadcast, so every
+// rank sees the same bits and takes the same branches (a Newton decision never differs between ranks).
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -39,6 +39,12 @@ void before_stop(std::function<void()> hook);
 void sum(double* v, std::size_t n);
 /// The smallest of the ranks' values, on every rank.
 int min(int value);
+/// v = the entrywise largest over ranks of v, on every rank.
+void max(int* v, std::size_t n);
+void max(double* v, std::size_t n);
+
+/// Every rank's `mine`, concatenated in rank order, on every rank.
+std::vector<int> all_gather(const std::vector<int>& mine);
 
 /// The ranks' local rows [offset_r, offset_r + count_r) of a vector of sum(counts)
 /// values, gathered on every rank; `counts` known to all.

@@ -61,22 +61,6 @@ class FBarCells {
   /// w_p = v_p,n / (the cell's points' volume)
   double weight(int p) const { return weight_[p]; }
 
-  /// Each point's key for partition_points (mpm/PointPartition.hpp): the lowest node of
-  /// its cell's points' stencils, so that a cell's points share a rank.
-  std::vector<int> partition_keys() const {
-    std::vector<int> key(cell_.size());
-    for (std::size_t p = 0; p < cell_.size(); ++p) key[p] = nodes_[cell_[p]].front();
-    return key;
-  }
-  /// The cells of the points [first, last), in increasing order.
-  std::vector<int> cells_of(const int* first, const int* last) const {
-    std::vector<int> cells;
-    for (const int* p = first; p != last; ++p) cells.push_back(cell_[*p]);
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    return cells;
-  }
-
   /// dJbar of the points of `cells` (null: every cell) from their points' dJ.
   void average(const std::vector<double>& dJ, std::vector<double>& dJbar, const std::vector<int>* cells) const {
     dJbar.resize(dJ.size());
@@ -93,12 +77,11 @@ class FBarCells {
 
   /// The cell coupling of the tangent for `cells`: K += U_c V_c^T per cell,
   /// U_c(a i) = sum_p W_p G_pa,j Q_p,ij, V_c(b k) = sum_q beta_q G_qb,k over the cell's
-  /// points, beta_q = w_q dJ_q / dJbar; G, W and Q of the cells' points (grads, weights, Q:
-  /// of point q at slot[q], or at q without slots).
+  /// points, beta_q = w_q dJ_q / dJbar; G, W and Q of the cells' points (grads, weights, Q).
   template <class Gradients>
   void add_coupling(SparseMatrix& K, const std::vector<int>& cells, const PointStencils<dim>& st, const DofMap& dofs,
                     const Gradients& grads, const std::vector<double>& weights, const std::vector<Mat3>& Q,
-                    const std::vector<double>& dJ, const std::vector<double>& dJbar, const int* slot = nullptr) const {
+                    const std::vector<double>& dJ, const std::vector<double>& dJbar) const {
     double* values = K.valuePtr();
     for (const int c : cells) {
       const auto& nodes = nodes_[c];
@@ -107,14 +90,13 @@ class FBarCells {
       for (int q : members_[c]) {
         const Stencil<dim>& s = st[q];
         const double beta = weight_[q] * dJ[q] / dJbar[q];
-        const int g = slot ? slot[q] : q;
         for (int a = 0; a < s.count; ++a) {
           const int at = static_cast<int>(std::lower_bound(nodes.begin(), nodes.end(), s.node[a]) - nodes.begin());
           for (int i = 0; i < dim; ++i) {
             double u = 0.0;
-            for (int j = 0; j < dim; ++j) u += grads[g][a][j] * Q[g](i, j);
-            U[at * dim + i] += weights[g] * u;
-            V[at * dim + i] += beta * grads[g][a][i];
+            for (int j = 0; j < dim; ++j) u += grads[q][a][j] * Q[q](i, j);
+            U[at * dim + i] += weights[q] * u;
+            V[at * dim + i] += beta * grads[q][a][i];
           }
         }
       }

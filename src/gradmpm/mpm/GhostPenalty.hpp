@@ -26,6 +26,7 @@
 #include <array>
 #include <vector>
 
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
@@ -43,9 +44,11 @@ class GhostFaces {
     std::array<double, kFaceNodes * kFaceNodes> g{};  ///< g_ab, row-major over the active nodes
   };
 
-  /// alpha: the dimensionless factor (gamma = alpha E).
+  /// alpha: the dimensionless factor (gamma = alpha E). `over_ranks`: `pts` are a
+  /// distributed run's rank's points; the cells' occupancy is that of every rank's.
   GhostFaces(const Grid<dim>& grid, const MaterialPoints<dim>& pts,
-             const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha) {
+             const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
+             bool over_ranks = false) {
     const auto& n = grid.cells();
     const int nc = grid.num_cells();
     // Points per cell and the stiffest material in each cell.
@@ -58,6 +61,10 @@ class GhostFaces {
         ++points_in[k];
         young[k] = std::max(young[k], materials[pts.material[p]]->elasticity().young);
       }
+    if (over_ranks) {
+      ranks::max(points_in.data(), points_in.size());
+      ranks::max(young.data(), young.size());
+    }
     // Active cells (every node with dofs) and boundary cells (active; empty or beside an empty cell).
     std::vector<char> active(nc, 0), boundary(nc, 0);
     for (int k = 0; k < nc; ++k) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <Eigen/QR>
 
@@ -22,7 +23,8 @@ constexpr double kWeakNode = 1e-8;
 /// indefinite, and CHOLMOD refuses it. Their values barely reach any point (weights below
 /// 1e-4 of the largest), so kappa_bar changes by as little. The step's own cut-off
 /// (drop_weak_nodes, with F-bar) does not catch them: it bounds the support sum N v, which
-/// is linear in N, and that node's was above it; the diagonal here is quadratic.
+/// is linear in N, and that node's was above it; the diagonal here is quadratic. (A
+/// distributed run's diagonal is that of every rank's points.)
 template <int dim>
 PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> st, const std::vector<bool>& on) {
   for (int p = 0; p < m.points.size(); ++p)
@@ -32,6 +34,7 @@ PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> 
   for (int p = 0; p < m.points.size(); ++p)
     for (int a = 0; a < st[p].count; ++a)
       diagonal[st[p].node[a]] += m.points.volume[p] * (st[p].N[a] * st[p].N[a] + l2 * st[p].dN[a].squaredNorm());
+  ranks::sum(diagonal.data(), diagonal.size());
   const double weak = kWeakNode * *std::max_element(diagonal.begin(), diagonal.end());
   drop_nodes(st, [&](int node) { return diagonal[node] < weak; });
   return st;
@@ -73,13 +76,22 @@ NonlocalPlasticStrain<dim>::NonlocalPlasticStrain(const Model<dim>& m, const Poi
         return s;
       }()),
       stencils_(regularised_stencils(m, stencils, regularised_materials(slots_))),
-      dofs_(stencils_, m.grid.num_nodes(), 1),
-      part_(stencil_partition(stencils_, m.grid.num_nodes())),
-      assembler_(stencils_, m.points, dofs_, &m.grid, part_.begin(ranks::rank()), part_.end(ranks::rank())),
+      dofs_(stencils_, m.grid.num_nodes(), 1, ranks::distributed()),
+      assembler_(stencils_, m.points, dofs_, &m.grid),
       pattern_(build_rank_pattern(stencils_, assembler_.subset(), dofs_)),
       smoother_(assembler_, pattern_, m.regularisation.length_scale, {}, solver, ranks::distributed()) {
   for (int p = 0; p < m.points.size(); ++p)
     if (slots_[m.points.material[p]].nonlocal >= 0) regularised_points_.push_back(p);
+  counts_ = ranks::all_gather({static_cast<int>(regularised_points_.size())});
+  for (int r = 0; r < ranks::rank(); ++r) offset_ += counts_[r];
+}
+
+template <int dim>
+Eigen::VectorXd NonlocalPlasticStrain<dim>::over_ranks(const Eigen::VectorXd& mine) const {
+  if (!ranks::distributed()) return mine;
+  Eigen::VectorXd all(std::accumulate(counts_.begin(), counts_.end(), Eigen::Index(0)));
+  ranks::all_gather_rows(mine.data(), counts_, all.data());
+  return all;
 }
 
 template <int dim>
@@ -121,7 +133,8 @@ void NonlocalPlasticStrain<dim>::smooth(const std::vector<double>& source, std::
 
 template <int dim>
 double NonlocalPlasticStrain<dim>::iterate(const std::vector<double>& source, std::vector<double>& target) {
-  const Eigen::VectorXd x = gather(target), g = smoothed(source), f = g - x;
+  // Over every rank's regularised points, so that every rank finds the same combination.
+  const Eigen::VectorXd x = over_ranks(gather(target)), g = over_ranks(smoothed(source)), f = g - x;
   Eigen::VectorXd next = g;
   if (x_prev_.size() > 0) {
     dx_.push_back(x - x_prev_);
@@ -138,7 +151,7 @@ double NonlocalPlasticStrain<dim>::iterate(const std::vector<double>& source, st
   }
   x_prev_ = x;
   f_prev_ = f;
-  scatter(next, target);
+  scatter(next.segment(offset_, static_cast<Eigen::Index>(regularised_points_.size())), target);
   if (next.size() == 0) return 0.0;
   return (next - x).lpNorm<Eigen::Infinity>() / std::max(next.lpNorm<Eigen::Infinity>(), 1e-300);
 }

@@ -40,7 +40,9 @@ template <int dim>
 class NonlocalPlasticStrain {
  public:
   /// The operator of the load step whose stencils at x_n are `stencils` (factorised once,
-  /// reused by every staggered iteration of the step).
+  /// reused by every staggered iteration of the step). In a distributed run `m`'s points
+  /// are this rank's (the load step's, mpm/RankPoints.hpp): it assembles their share of
+  /// the Helmholtz system, the solver adds the shares up.
   NonlocalPlasticStrain(const Model<dim>& m, const PointStencils<dim>& stencils, const LinearSolverSettings& solver);
 
   /// kappa_bar from the kappa held in the state block `source`, written into the
@@ -63,6 +65,8 @@ class NonlocalPlasticStrain {
   Eigen::VectorXd smoothed(const std::vector<double>& source) const;  ///< G at the regularised points
   Eigen::VectorXd gather(const std::vector<double>& state) const;     ///< kappa_bar of the regularised points
   void scatter(const Eigen::VectorXd& kappa_bar, std::vector<double>& state) const;
+  /// A vector over this rank's regularised points, gathered over every rank's (rank order).
+  Eigen::VectorXd over_ranks(const Eigen::VectorXd& mine) const;
 
   static constexpr int kDepth = 8;  ///< iterates Anderson's least squares combines
 
@@ -70,11 +74,12 @@ class NonlocalPlasticStrain {
   std::vector<Slots> slots_;     ///< per material
   PointStencils<dim> stencils_;  ///< the step's, emptied for points that are not regularised
   DofMap dofs_;
-  PointPartition part_;  ///< a distributed run's: each rank assembles its points' share
   Assembler<dim> assembler_;
   SparseMatrix pattern_;
   HelmholtzSmoother<dim> smoother_;
   std::vector<int> regularised_points_;
+  std::vector<int> counts_;               ///< the regularised points of each rank
+  int offset_ = 0;                        ///< this rank's first in the vectors over the ranks
   std::vector<Eigen::VectorXd> dx_, df_;  ///< differences of the last iterates and residuals
   Eigen::VectorXd x_prev_, f_prev_;
 };

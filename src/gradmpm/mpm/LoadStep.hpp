@@ -3,6 +3,14 @@
 // stencils at x_n, active dofs, the sparsity pattern, the prescribed increments, and the
 // point loop of every Newton iteration (internal force, tangent), then eq. (2): the
 // converged increment mapped to the points. Internal to the driver.
+//
+// In a distributed run the step is given the model of this rank's points only
+// (mpm/RankPoints.hpp) and works on them alone: their stencils, updates, internal forces,
+// their share of the tangent and the map to them. What needs every rank's points is
+// summed or gathered where it is made: the active nodes (so every rank numbers the same
+// equations), the supports of F-bar's weak-node cut, the cells' occupancy of the ghost
+// penalty, f_ext, f_int, the nodal masses, the rigid boxes' forces, and a point that
+// fails (outside the grid, inverted).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -38,23 +46,24 @@ struct StepFailure {
 template <int dim>
 class LoadStep {
  public:
-  LoadStep(const Model<dim>& m, double lambda_end, double dlambda)
+  /// `m`: the model of the points the step works on; in a distributed run this rank's,
+  /// `ids` their numbers in the whole body (rank_points(); messages name points by them).
+  LoadStep(const Model<dim>& m, double lambda_end, double dlambda, std::vector<int> ids = {})
       : model_(m),
-        st_(stencils(m)),
         split_(ranks::distributed()),
+        ids_(split_ && ids.size() != static_cast<std::size_t>(m.points.size())
+                 ? throw std::logic_error("a distributed run's load step is given its rank's points and their ids")
+                 : std::move(ids)),
+        st_(stencils(m, split_ ? &ids_ : nullptr)),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
-        part_(split_ ? partition_points(fbar_ ? fbar_->partition_keys() : lowest_stencil_nodes(st_, m.grid.num_nodes()),
-                                        m.grid.num_nodes(), ranks::size())
-                     : every_point(m.points.size())),
-        dofs_(st_, m.grid.num_nodes(), dim),
+        dofs_(st_, m.grid.num_nodes(), dim, split_),
         ghost_(m.ghost_penalty > 0.0
-                   ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty)
+                   ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty, split_)
                    : nullptr),
         contact_(m.rigid_boxes.empty()
                      ? nullptr
                      : std::make_unique<RigidContact<dim>>(m.rigid_boxes, m.points, st_, dofs_, lambda_end)),
-        assembler_(st_, m.points, dofs_, &m.grid, part_.begin(split_ ? ranks::rank() : 0),
-                   part_.end(split_ ? ranks::rank() : 0)),
+        assembler_(st_, m.points, dofs_, &m.grid),
         response_(m.points.size()),
         trial_state_(m.points.state.size()) {
     // Prescribed increments of active constrained nodes (last definition wins).
@@ -66,13 +75,16 @@ class LoadStep {
       increments_.push_back(value);
     }
     f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
-    if (fbar_)
-      my_cells_ = fbar_->cells_of(part_.begin(split_ ? ranks::rank() : 0), part_.end(split_ ? ranks::rank() : 0));
-    if (split_) {
-      slot_.assign(m.points.size(), -1);
-      for (int k = 0; k < part_.count(ranks::rank()); ++k) slot_[part_.begin(ranks::rank())[k]] = k;
+    if (split_) {  // every rank's points' share; the nodal masses too (the outputs ask for them on rank 0 only)
+      ranks::sum(f_ext_.data(), f_ext_.size());
+      mass_ = nodal_mass(st_, m.points, m.grid.num_nodes());
+      ranks::sum(mass_.data(), mass_.size());
     }
-    pattern_ = make_pattern();  // after the constraints and this rank's cells
+    if (fbar_) {
+      all_cells_.resize(fbar_->members().size());
+      for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
+    }
+    pattern_ = make_pattern();  // after the constraints
   }
 
   const DofMap& dofs() const { return dofs_; }
@@ -97,28 +109,26 @@ class LoadStep {
   /// internal force f_int,i = sum_p tau_p grad N_i w_p. The updates are independent and
   /// run on OpenMP threads; f_int is scattered by buckets of points with disjoint nodes
   /// (Assembler::for_each_point_disjoint), so the result does not depend on the threads.
-  /// In a distributed run each rank updates its own points (part_) and f_int is summed.
+  /// In a distributed run each rank updates its own points and f_int is summed.
   void internal_force(const Vector& du, Vector& f_int) {
     if (fbar_) return internal_force_fbar(du, f_int);
     const auto& pts = model_.points;
-    const int np = pts.size(), rank = split_ ? ranks::rank() : 0, mine = part_.count(rank);
-    const int* my_points = part_.begin(rank);
+    const int np = pts.size();
     f_int = Vector::Zero(dofs_.num_dofs());
-    grads_.resize(mine);
-    weights_.resize(mine);
-    int inverted = std::numeric_limits<int>::max();
+    grads_.resize(np);
+    weights_.resize(np);
+    int inverted = kNone;
     double inverted_det = 0.0;
-#pragma omp parallel for schedule(static) if (use_threads(mine))
-    for (int k = 0; k < mine; ++k) {
-      const int p = my_points[k];
+#pragma omp parallel for schedule(static) if (use_threads(np))
+    for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
       const Mat3 g = increment_gradient(s, dofs_, du);
       const Mat3 dF = Mat3::Identity() + g;
       const double detdF = dF.determinant();
       if (!(detdF > 0.0)) {
 #pragma omp critical
-        if (p < inverted) {
-          inverted = p;
+        if (id(p) < inverted) {
+          inverted = id(p);
           inverted_det = detdF;
         }
         continue;
@@ -126,7 +136,7 @@ class LoadStep {
       const Material& mat = model_.material_of(p);
       mat.update_increment(g, pts.state_of(p), trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride,
                            response_[p]);
-      auto& G = grads_[k];  // gradients in the configuration the stress lives in
+      auto& G = grads_[p];  // gradients in the configuration the stress lives in
       if (mat.finite_strain()) {
         const Mat3 inv = dF.inverse();
         for (int a = 0; a < s.count; ++a)
@@ -135,20 +145,20 @@ class LoadStep {
             for (int m = 0; m < dim; ++m) v += s.dN[a][m] * inv(m, l);
             G[a][l] = v;
           }
-        weights_[k] = pts.original_volume[p];  // Kirchhoff stress on V_p = sigma on v_p
+        weights_[p] = pts.original_volume[p];  // Kirchhoff stress on V_p = sigma on v_p
       } else {
         for (int a = 0; a < s.count; ++a) G[a] = s.dN[a];
-        weights_[k] = pts.volume[p];
+        weights_[p] = pts.volume[p];
       }
     }
-    if (split_) lowest_over_ranks(inverted, inverted_det, np);  // every rank fails, or none
-    if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
+    if (split_) lowest_over_ranks(inverted, inverted_det);  // every rank fails, or none
+    if (inverted < kNone) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
     scatter_internal_force(du, f_int);
   }
 
   /// f_int,i = sum_p w_p stress_p grad N_i, by buckets of points with disjoint nodes; then
-  /// the penalty terms at the iterate du (ghost faces, rigid-box contacts), which act as
-  /// internal forces of the grid.
+  /// the penalty terms at the iterate du (rigid-box contacts of the points, then, on the
+  /// ranks' sum, the ghost faces), which act as internal forces of the grid.
   void scatter_internal_force(const Vector& du, Vector& f_int) {
     // The points of a run share their stencil nodes: their sum is scattered once.
     assembler_.for_each_run([&](const int* first, const int* last) {
@@ -156,9 +166,9 @@ class LoadStep {
       std::array<Vec<dim>, Stencil<dim>::capacity> f;
       for (int a = 0; a < s.count; ++a) f[a].setZero();
       for (const int* q = first; q != last; ++q) {
-        const auto& G = grads_[slot(*q)];
+        const auto& G = grads_[*q];
         const Mat3& stress = response_[*q].stress;
-        const double w = weights_[slot(*q)];
+        const double w = weights_[*q];
         for (int a = 0; a < s.count; ++a)
           for (int i = 0; i < dim; ++i) {
             double v = 0.0;
@@ -169,9 +179,9 @@ class LoadStep {
       for (int a = 0; a < s.count; ++a)
         for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
     });
+    if (contact_) contact_->add_force(du, f_int);
     if (split_) ranks::sum(f_int.data(), f_int.size());
     if (ghost_) ghost_->add_force(dofs_, du, f_int);
-    if (contact_) contact_->add_force(du, f_int);
   }
 
   /// The tangent K at the state of the last internal_force(): each point's material
@@ -194,12 +204,11 @@ class LoadStep {
         K,
         [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
           // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
-          const int k = slot(p);
-          const auto& G = grads_[k];
+          const auto& G = grads_[p];
           Mat9 A;
           model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
-          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[k]);
-          const double w = weights_[k];
+          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[p]);
+          const double w = weights_[p];
           for (int b = 0; b < s.count; ++b) {
             double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
             for (int i = 0; i < dim; ++i)
@@ -219,18 +228,15 @@ class LoadStep {
           }
         },
         symmetric);
-    if (fbar_)
-      fbar_->add_coupling(K, my_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_,
-                          split_ ? slot_.data() : nullptr);
+    if (fbar_) fbar_->add_coupling(K, all_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
     if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_matrix(dofs_, K);
-    if (contact_) contact_->add_matrix(K, [&](int p) { return !split_ || slot_[p] >= 0; });
+    if (contact_) contact_->add_matrix(K);
   }
 
-  /// Eq. (2): maps the converged increment to the points and updates their state. (A
-  /// distributed F-bar run first finds every cell's dJbar: each rank made its own cells'.)
+  /// Eq. (2): maps the converged increment to the points and updates their state (what it
+  /// writes: committed_arrays() of mpm/RankPoints.hpp, and the state block).
   void commit(Model<dim>& m, const Vector& du) {
     auto& pts = m.points;
-    if (fbar_ && split_) volume_changes(du, part_.order.data(), pts.size(), nullptr);
     pts.state = trial_state_;  // the material histories of the converged iterate
     for (int p = 0; p < pts.size(); ++p) {
       Vec<dim> dx;
@@ -266,13 +272,11 @@ class LoadStep {
     std::vector<double>().swap(weights_);
   }
 
-  /// At a converged iterate: keeps f_int (reactions); a distributed run's ranks swap their
-  /// points' stresses and histories (commit and the staggered regularisation read all).
+  /// At a converged iterate: keeps f_int (reactions); a distributed run sums the boxes'
+  /// contact forces over the ranks.
   void converged(const Vector& f_int) {
     f_int_converged_ = f_int;
-    if (split_)
-      share_point_results(
-          part_, model_.points.state_stride, [&](int p) { return response_[p].stress.data(); }, trial_state_.data());
+    if (split_ && contact_) contact_->sum_forces_over_ranks();
   }
 
   /// A vector in equation numbering at every grid node (dim values per node; zero on
@@ -288,20 +292,17 @@ class LoadStep {
   }
 
   /// Nodal mass sum_p N_i m_p at every grid node.
-  Vector grid_mass() const { return nodal_mass(st_, model_.points, model_.grid.num_nodes()); }
+  Vector grid_mass() const { return split_ ? mass_ : nodal_mass(st_, model_.points, model_.grid.num_nodes()); }
 
  private:
   /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'
   /// stencils together) and each ghost face's nodes. In a distributed run, those of this
-  /// rank's share only (stiffness()): its points' (its cells'), and on rank 0 the ghost
-  /// faces' and every constrained node's diagonal block (DirichletElimination puts the
+  /// rank's share (stiffness()): its points' (its cells'), and on rank 0 the ghost faces'
+  /// and every constrained node's diagonal block (DirichletElimination puts the
   /// constrained diagonal in rank 0's share). PETSc adds the shares' patterns up.
   SparseMatrix make_pattern() const {
-    const int rank = split_ ? ranks::rank() : 0;
-    const bool rank0 = rank == 0;
-    const int* mine = part_.begin(rank);
-    const int n_main = !split_ ? (fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size()))
-                               : (fbar_ ? static_cast<int>(my_cells_.size()) : part_.count(rank));
+    const bool rank0 = !split_ || ranks::rank() == 0;
+    const int n_main = fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size());
     const int n_ghost = ghost_ && rank0 ? ghost_->size() : 0;
     std::vector<int> constrained_nodes;
     if (split_ && rank0) {
@@ -310,18 +311,17 @@ class LoadStep {
       constrained_nodes.erase(std::unique(constrained_nodes.begin(), constrained_nodes.end()), constrained_nodes.end());
     }
     const int n_fixed = static_cast<int>(constrained_nodes.size());
-    auto main_group = [&](int g) { return !split_ ? g : fbar_ ? my_cells_[g] : mine[g]; };
     return build_pattern_of_groups(
         n_main + n_ghost + n_fixed,
         [&](int g) {
           if (g >= n_main + n_ghost) return 1;
           if (g >= n_main) return ghost_->faces()[g - n_main].count;
-          return fbar_ ? static_cast<int>(fbar_->nodes()[main_group(g)].size()) : st_[main_group(g)].count;
+          return fbar_ ? static_cast<int>(fbar_->nodes()[g].size()) : st_[g].count;
         },
         [&](int g, int a) {
           if (g >= n_main + n_ghost) return constrained_nodes[g - n_main - n_ghost];
           if (g >= n_main) return ghost_->faces()[g - n_main].node[a];
-          return fbar_ ? fbar_->nodes()[main_group(g)][a] : st_[main_group(g)].node[a];
+          return fbar_ ? fbar_->nodes()[g][a] : st_[g].node[a];
         },
         dofs_);
   }
@@ -330,9 +330,10 @@ class LoadStep {
   /// sliver (drop_weak_nodes: support below 1e-8 of a cell's volume): F-bar takes the
   /// volumetric stiffness a lone point gives such a node away, and the tangent turned
   /// singular there (docs/plasticity.md). Without F-bar the stencils are untouched.
-  static PointStencils<dim> stencils(const Model<dim>& m) {
-    PointStencils<dim> st = evaluate_stencils(m.grid, m.points, m.basis);
-    if (m.fbar) drop_weak_nodes(st, m.points, m.grid.num_nodes(), m.grid.cell_size().prod(), 1e-8);
+  /// `ids`: a distributed run's (the supports and failures of every rank's points).
+  static PointStencils<dim> stencils(const Model<dim>& m, const std::vector<int>* ids) {
+    PointStencils<dim> st = evaluate_stencils(m.grid, m.points, m.basis, ids);
+    if (m.fbar) drop_weak_nodes(st, m.points, m.grid.num_nodes(), m.grid.cell_size().prod(), 1e-8, ids != nullptr);
     return st;
   }
 
@@ -340,53 +341,54 @@ class LoadStep {
   /// update with dFbar, gradients of the actual dF, weights (v_n / Jbar_n) dJ / dJbar.
   void internal_force_fbar(const Vector& du, Vector& f_int) {
     const auto& pts = model_.points;
-    const int np = pts.size(), rank = split_ ? ranks::rank() : 0, mine = part_.count(rank);
-    const int* my_points = part_.begin(rank);
+    const int np = pts.size();
     f_int = Vector::Zero(dofs_.num_dofs());
-    grads_.resize(mine);
-    weights_.resize(mine);
-    auto [inverted, det] = volume_changes(du, my_points, mine, &my_cells_);
-    if (split_) lowest_over_ranks(inverted, det, np);  // every rank fails, or none
-    if (inverted < np) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
-#pragma omp parallel for schedule(static) if (use_threads(mine))
-    for (int k = 0; k < mine; ++k) {
-      const int p = my_points[k];
+    grads_.resize(np);
+    weights_.resize(np);
+    auto [inverted, det] = volume_changes(du);
+    if (split_) lowest_over_ranks(inverted, det);  // every rank fails, or none
+    if (inverted < kNone) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
+#pragma omp parallel for schedule(static) if (use_threads(np))
+    for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
       model_.material_of(p).update(material_increment(p, fbar_dF_[p]), pts.state_of(p),
                                    trial_state_.data() + static_cast<std::size_t>(p) * pts.state_stride, response_[p]);
       const Mat3 inv = fbar_dF_[p].inverse();
-      auto& G = grads_[k];
+      auto& G = grads_[p];
       for (int a = 0; a < s.count; ++a)
         for (int l = 0; l < dim; ++l) {
           double v = 0.0;
           for (int m = 0; m < dim; ++m) v += s.dN[a][m] * inv(m, l);
           G[a][l] = v;
         }
-      weights_[k] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
+      weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
     }
     scatter_internal_force(du, f_int);
   }
 
-  /// F-bar: dF and dJ of `count` points and dJbar of `cells`, theirs (null: every cell);
-  /// the lowest inverted point (the number of points if none) and its dJ.
-  std::pair<int, double> volume_changes(const Vector& du, const int* points, int count, const std::vector<int>* cells) {
+  /// F-bar: dF and dJ of every point and dJbar of every cell; the lowest inverted point
+  /// (its id; kNone if none) and its dJ.
+  std::pair<int, double> volume_changes(const Vector& du) {
     const int np = model_.points.size();
     fbar_dF_.resize(np);
     fbar_dJ_.resize(np);
-    int inverted = np;
-    for (int k = 0; k < count; ++k) {
-      const int p = points[k];
+    int inverted = kNone;
+    double det = 0.0;
+    for (int p = 0; p < np; ++p) {
       fbar_dF_[p] = Mat3::Identity() + increment_gradient(st_[p], dofs_, du);
       fbar_dJ_[p] = fbar_dF_[p].determinant();
-      if (!(fbar_dJ_[p] > 0.0)) inverted = std::min(inverted, p);
+      if (!(fbar_dJ_[p] > 0.0) && id(p) < inverted) {
+        inverted = id(p);
+        det = fbar_dJ_[p];
+      }
     }
-    fbar_->average(fbar_dJ_, fbar_dJbar_, cells);
-    return {inverted, inverted < np ? fbar_dJ_[inverted] : 0.0};
+    fbar_->average(fbar_dJ_, fbar_dJbar_, nullptr);
+    return {inverted, det};
   }
 
-  /// Point p's place in grads_ and weights_ (this rank's points, in part_'s order; a
-  /// serial run's part_ is every point in index order).
-  int slot(int p) const { return split_ ? slot_[p] : p; }
+  /// Point p's number in the whole body (a distributed run's points are a subset).
+  int id(int p) const { return split_ ? ids_[p] : p; }
+  static constexpr int kNone = std::numeric_limits<int>::max();  ///< no failed point
 
   /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in the plane.
   Mat3 material_increment(int p, Mat3 dF) const {
@@ -395,13 +397,13 @@ class LoadStep {
   }
 
   const Model<dim>& model_;
+  bool split_;            ///< distributed: model_'s points are this rank's
+  std::vector<int> ids_;  ///< distributed: the ids of model_'s points in the whole body
   PointStencils<dim> st_;
-  bool split_;  ///< distributed: each rank updates its own points
   std::unique_ptr<FBarCells<dim>> fbar_;
-  PointPartition part_;  ///< the points of each rank (one run of every point when not split)
   DofMap dofs_;
-  std::vector<int> my_cells_;               ///< F-bar: the cells of this rank's points (all of their points are its)
-  std::unique_ptr<GhostFaces<dim>> ghost_;  ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
+  std::vector<int> all_cells_;                  ///< F-bar: 0, 1, ... (every cell of the points)
+  std::unique_ptr<GhostFaces<dim>> ghost_;      ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
   std::unique_ptr<RigidContact<dim>> contact_;  ///< rigid boxes' contacts (mpm/RigidContact.hpp); null without
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;
@@ -411,16 +413,16 @@ class LoadStep {
   std::vector<int> constrained_;
   std::vector<double> increments_;
   Vector f_ext_;
+  Vector mass_;  ///< distributed: the nodal masses of every rank's points
   /// Written by every internal_force() before it is read: not zeroed when made (2e5
   /// points: 40 MB, 4 ms of a load step's set-up).
   std::vector<MaterialResponse, DefaultInitAllocator<MaterialResponse>> response_;
   std::vector<double> trial_state_;  ///< the state block of the current iterate
   Vector f_int_converged_;           ///< f_int at the converged iterate (reactions)
-  /// Of this rank's points only, in part_'s order (slot(p)): the gradients of their
-  /// shape functions in the configuration their stress lives in, and their weights.
+  /// The gradients of the points' shape functions in the configuration their stress lives
+  /// in, and their weights.
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
   std::vector<double> weights_;
-  std::vector<int> slot_;  ///< distributed: point -> its place among this rank's points (-1: another rank's)
 };
 
 }  // namespace gradmpm::detail

@@ -11,6 +11,7 @@
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/mpm/ImplicitGradient.hpp"
 #include "gradmpm/mpm/LoadStep.hpp"
+#include "gradmpm/mpm/RankPoints.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
@@ -263,6 +264,9 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
+    // A distributed run's step works on the model of this rank's points (mpm/RankPoints.hpp).
+    const bool split = ranks::distributed();
+    std::unique_ptr<Model<dim>> local;    // (made before the step that refers to it, dropped after it)
     std::unique_ptr<LoadStep<dim>> step;  // kept for the grid fields the observer may ask for
     Vector du;
     const auto t0 = Clock::now();
@@ -278,17 +282,27 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       info.backtracks = 0;
       try {
         auto t0 = Clock::now();
+        step.reset();
+        PointPartition part;
+        std::vector<int> ids;
+        if (split) {
+          part = rank_points(model);
+          ids.assign(part.begin(ranks::rank()), part.end(ranks::rank()));
+          local = std::make_unique<Model<dim>>(local_model(model, ids));
+        }
+        Model<dim>& points_model = split ? *local : model;  // the points this rank works on
         try {
-          step = std::make_unique<LoadStep<dim>>(model, lambda + dlambda, dlambda);
+          step = std::make_unique<LoadStep<dim>>(points_model, lambda + dlambda, dlambda, std::move(ids));
         } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
           throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
         }
         info.phases.pattern = seconds_since(t0);
         info.dofs = step->dofs().num_dofs();
         info.nonzeros = step->pattern().nonZeros();
-        du = solve_step(*step, model, settings, info, solvers);
+        du = solve_step(*step, points_model, settings, info, solvers);
         t0 = Clock::now();
-        step->commit(model, du);
+        step->commit(points_model, du);
+        if (split) share_committed(part, local->points, model.points);  // every rank holds every point again
         info.phases.update = seconds_since(t0);
         step->release_newton_data();
         break;

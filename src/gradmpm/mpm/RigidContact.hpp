@@ -14,6 +14,7 @@
 #include <limits>
 #include <vector>
 
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/mpm/Model.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/DofMap.hpp"
@@ -67,13 +68,10 @@ class RigidContact {
     }
   }
 
-  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force of the
-  /// points p with mine(p) (a distributed run's share: this rank's points).
-  template <class Mine>
-  void add_matrix(SparseMatrix& K, Mine&& mine) const {
+  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force.
+  void add_matrix(SparseMatrix& K) const {
     double* values = K.valuePtr();
     for (const Contact& c : contacts_) {
-      if (!mine(c.point)) continue;
       const Stencil<dim>& s = st_[c.point];
       for (int b = 0; b < s.count; ++b) {
         const int col = dofs_.dof(s.node[b], c.axis);
@@ -83,8 +81,13 @@ class RigidContact {
     }
   }
 
-  /// The force box b exerts on the body at the last add_force (per unit thickness in 2D).
+  /// The force box b exerts on the body at the last add_force (per unit thickness in 2D);
+  /// of this rank's points in a distributed run until sum_forces_over_ranks().
   const Vec<dim>& force(int b) const { return force_[b]; }
+  /// A distributed run's: the boxes' forces on every rank's points (a collective call).
+  void sum_forces_over_ranks() {
+    for (auto& f : force_) ranks::sum(f.data(), dim);
+  }
 
  private:
   struct Contact {

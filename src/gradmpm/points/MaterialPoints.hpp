@@ -2,6 +2,7 @@
 // Material points carry all state of the analysis (paper, section 1). Stored as a
 // structure of arrays so that hot loops stream through contiguous memory.
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 #include "gradmpm/core/Types.hpp"
@@ -38,11 +39,27 @@ struct MaterialPoints {
   /// state block): what a checkpoint stores (app/Checkpoint.cpp). A new array goes here too.
   template <class F>
   void for_each_array(F&& f) {
-    visit_arrays(*this, f);
+    visit_arrays(f, *this);
   }
   template <class F>
   void for_each_array(F&& f) const {
-    visit_arrays(*this, f);
+    visit_arrays(f, *this);
+  }
+
+  /// The points `ids` (in that order), every array and their state.
+  MaterialPoints subset(const std::vector<int>& ids) const {
+    MaterialPoints out;
+    visit_arrays(
+        [&](const char*, const auto& from, auto& to) {
+          to.resize(ids.size());
+          for (std::size_t k = 0; k < ids.size(); ++k) to[k] = from[ids[k]];
+        },
+        *this, out);
+    out.state_stride = state_stride;
+    out.state.resize(ids.size() * static_cast<std::size_t>(state_stride));
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      std::copy(state_of(ids[k]), state_of(ids[k]) + state_stride, out.state_of(static_cast<int>(k)));
+    return out;
   }
   double* state_of(int p) { return state.data() + static_cast<std::size_t>(p) * state_stride; }
   const double* state_of(int p) const { return state.data() + static_cast<std::size_t>(p) * state_stride; }
@@ -65,21 +82,22 @@ struct MaterialPoints {
   }
 
  private:
-  template <class Self, class F>
-  static void visit_arrays(Self& p, F& f) {
-    f("position", p.position);
-    f("original_position", p.original_position);
-    f("volume", p.volume);
-    f("original_volume", p.original_volume);
-    f("mass", p.mass);
-    f("material", p.material);
-    f("F", p.F);
-    f("stress", p.stress);
-    f("fbar_jacobian", p.fbar_jacobian);
-    f("half_length", p.half_length);
-    f("original_half_length", p.original_half_length);
-    f("force", p.force);
-    f("work", p.work);
+  /// f(name, array of each of `p`...): the same array of one or several point sets.
+  template <class F, class... Self>
+  static void visit_arrays(F&& f, Self&... p) {
+    f("position", p.position...);
+    f("original_position", p.original_position...);
+    f("volume", p.volume...);
+    f("original_volume", p.original_volume...);
+    f("mass", p.mass...);
+    f("material", p.material...);
+    f("F", p.F...);
+    f("stress", p.stress...);
+    f("fbar_jacobian", p.fbar_jacobian...);
+    f("half_length", p.half_length...);
+    f("original_half_length", p.original_half_length...);
+    f("force", p.force...);
+    f("work", p.work...);
   }
 };
 

@@ -6,6 +6,7 @@
 //    the mapping of eq. (1) normalised by the nodal "volume" (a lumped L2 projection).
 //    It reproduces constant fields exactly and, on a uniform 1D mesh with fields that
 //    are constant per element, gives the average of the two neighbouring elements.
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -16,6 +17,7 @@
 #include "gradmpm/basis/LinearBasis.hpp"
 #include "gradmpm/basis/Stencil.hpp"
 #include "gradmpm/core/Parallel.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 
@@ -28,34 +30,42 @@ using PointStencils = std::vector<Stencil<dim>>;
 /// Evaluates `Basis` at every point. Throws std::out_of_range listing the ids of
 /// points outside the grid (for GIMP: whose domain leaves the grid) and, for GIMP, of
 /// points whose domain has grown wider than a cell (cpGIMP under large stretch).
+/// `ids`: where `points` are a distributed run's rank's points (mpm/RankPoints.hpp), their
+/// ids in the whole body; then the ranks' failures are gathered (a collective call), so
+/// every rank throws the same message, the one a serial run gives.
 template <int dim, class Basis>
-PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points) {
+PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points,
+                                     const std::vector<int>* ids = nullptr) {
   const int np = points.size();
   PointStencils<dim> st(np);
   std::vector<char> ok(np);
 #pragma omp parallel for schedule(static) if (use_threads(np))
   for (int p = 0; p < np; ++p) ok[p] = Basis::evaluate(grid, points.position[p], points.half_length[p], st[p]);
-  struct IdList {
-    int count = 0;
-    std::string ids;
-    void add(int p) {
-      if (count++ < 20) ids += (ids.empty() ? "" : ", ") + std::to_string(p);
-    }
-    std::string text() const { return ids + (count > 20 ? ", ..." : ""); }
-  } outside, too_wide;
+  std::vector<int> outside, too_wide;
   for (int p = 0; p < np; ++p) {
     if (ok[p]) continue;
     bool wide = false;
     if constexpr (std::is_same_v<Basis, GimpBasis<dim>>)
       for (int d = 0; d < dim; ++d) wide = wide || points.half_length[p][d] > 0.5 * grid.cell_size()[d];
-    (wide ? too_wide : outside).add(p);
+    (wide ? too_wide : outside).push_back(ids ? (*ids)[p] : p);
   }
+  if (ids) {
+    outside = ranks::all_gather(outside);
+    too_wide = ranks::all_gather(too_wide);
+    std::sort(outside.begin(), outside.end());
+    std::sort(too_wide.begin(), too_wide.end());
+  }
+  auto listed = [](const std::vector<int>& v) {
+    std::string text;
+    for (std::size_t k = 0; k < v.size() && k < 20; ++k) text += (k ? ", " : "") + std::to_string(v[k]);
+    return text + (v.size() > 20 ? ", ..." : "");
+  };
   std::string message;
-  if (outside.count > 0)
-    message = std::to_string(outside.count) + " material point(s) outside the grid (ids): " + outside.text();
-  if (too_wide.count > 0)
-    message += (message.empty() ? "" : "; ") + std::to_string(too_wide.count) +
-               " material point(s) whose GIMP domain is wider than a grid cell (ids): " + too_wide.text() +
+  if (!outside.empty())
+    message = std::to_string(outside.size()) + " material point(s) outside the grid (ids): " + listed(outside);
+  if (!too_wide.empty())
+    message += (message.empty() ? "" : "; ") + std::to_string(too_wide.size()) +
+               " material point(s) whose GIMP domain is wider than a grid cell (ids): " + listed(too_wide) +
                " (cpGIMP domains stretch with the body: use more points per cell or uGIMP)";
   if (!message.empty()) throw std::out_of_range(message);
   return st;
@@ -63,9 +73,10 @@ PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints
 
 /// Runtime choice of basis (uGIMP and cpGIMP differ only in how l_p evolves).
 template <int dim>
-PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points, BasisKind kind) {
-  if (kind == BasisKind::MPM) return evaluate_stencils<dim, LinearBasis<dim>>(grid, points);
-  return evaluate_stencils<dim, GimpBasis<dim>>(grid, points);
+PointStencils<dim> evaluate_stencils(const Grid<dim>& grid, const MaterialPoints<dim>& points, BasisKind kind,
+                                     const std::vector<int>* ids = nullptr) {
+  if (kind == BasisKind::MPM) return evaluate_stencils<dim, LinearBasis<dim>>(grid, points, ids);
+  return evaluate_stencils<dim, GimpBasis<dim>>(grid, points, ids);
 }
 
 /// Removes from every stencil the nodes for which `drop(node)` holds, keeping the order of
@@ -91,13 +102,15 @@ void drop_nodes(PointStencils<dim>& st, Drop&& drop) {
 /// support by round-off) has an equation of near-zero stiffness, and Newton's correction
 /// there is unbounded (the footing of docs/plasticity.md: singular values 1e-16 of the
 /// largest). Returns how many nodes were dropped; their shape functions are left out,
-/// an error of the order of `relative` in the partition of unity.
+/// an error of the order of `relative` in the partition of unity. `over_ranks`: the
+/// points are a distributed run's rank's; the supports are summed over the ranks.
 template <int dim>
 int drop_weak_nodes(PointStencils<dim>& st, const MaterialPoints<dim>& points, int num_nodes, double cell_volume,
-                    double relative) {
+                    double relative, bool over_ranks = false) {
   std::vector<double> support(num_nodes, 0.0);
   for (std::size_t p = 0; p < st.size(); ++p)
     for (int a = 0; a < st[p].count; ++a) support[st[p].node[a]] += st[p].N[a] * points.volume[p];
+  if (over_ranks) ranks::sum(support.data(), support.size());
   const double floor = relative * cell_volume;
   int dropped = 0;
   for (int n = 0; n < num_nodes; ++n) dropped += support[n] > 0.0 && support[n] < floor;

@@ -4,6 +4,7 @@
 // the others carry no equation. Equation of (node, component) = eq(node)*ncomp + comp.
 #include <vector>
 
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Types.hpp"
 #include "gradmpm/points/Transfer.hpp"
 
@@ -13,10 +14,14 @@ class DofMap {
  public:
   DofMap() = default;
 
+  /// The nodes of the stencils `st`; `over_ranks`: of every rank's stencils (they are a
+  /// distributed run's rank's points': the same numbering on every rank).
   template <int dim>
-  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp) : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
+  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp, bool over_ranks = false)
+      : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
     for (const auto& s : st)
       for (int a = 0; a < s.count; ++a) eq_of_node_[s.node[a]] = 0;
+    if (over_ranks) ranks::max(eq_of_node_.data(), eq_of_node_.size());
     for (int n = 0; n < num_nodes; ++n)
       if (eq_of_node_[n] == 0) {
         eq_of_node_[n] = static_cast<int>(node_of_eq_.size());
