@@ -1,5 +1,7 @@
 #include "gradmpm/gradient/MpmGradient.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <map>
 #include <memory>
@@ -36,7 +38,7 @@ class SmoothingContext {
         part_(rank_points(m)),
         ids_(part_.begin(ranks::rank()), part_.end(ranks::rank())),
         local_(split_ ? m.points.subset(ids_) : MaterialPoints<dim>{}),
-        st_(evaluate_stencils(m.grid, points(), m.basis, split_ ? &ids_ : nullptr)),
+        st_(stencils(m)),
         dofs_(st_, m.grid.num_nodes(), 1, split_),
         assembler_(st_, points(), dofs_, &m.grid),
         pattern_(build_rank_pattern(st_, assembler_.subset(), dofs_)) {}
@@ -167,6 +169,15 @@ class SmoothingContext {
   }
 
  private:
+  /// The stencils of points(); points outside the grid end the run as a solver failure
+  /// (no cut of the next step could bring them back), on every rank of a distributed run.
+  PointStencils<dim> stencils(const Model<dim>& m) const {
+    try {
+      return evaluate_stencils(m.grid, points(), m.basis, split_ ? &ids_ : nullptr);
+    } catch (const std::out_of_range& e) {
+      throw SolverError(fmt::format("gradient step: {}", e.what()));
+    }
+  }
   /// The points the context works on: this rank's in a distributed run, else every point.
   const MaterialPoints<dim>& points() const { return split_ ? local_ : model_.points; }
   int id(int p) const { return split_ ? ids_[p] : p; }
