@@ -41,7 +41,7 @@ class SmoothingContext {
         st_(stencils(m)),
         dofs_(st_, m.grid.num_nodes(), 1, split_),
         assembler_(st_, points(), dofs_, &m.grid),
-        pattern_(build_rank_pattern(st_, assembler_.subset(), dofs_)) {}
+        pattern_(build_rank_pattern(st_, dofs_)) {}
 
   /// Natural-boundary smoothing of a symmetric tensor field at the points: the
   /// components that can be non-zero in `dim` (in-plane ones and the out-of-plane

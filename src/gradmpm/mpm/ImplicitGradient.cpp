@@ -78,7 +78,7 @@ NonlocalPlasticStrain<dim>::NonlocalPlasticStrain(const Model<dim>& m, const Poi
       stencils_(regularised_stencils(m, stencils, regularised_materials(slots_))),
       dofs_(stencils_, m.grid.num_nodes(), 1, ranks::distributed()),
       assembler_(stencils_, m.points, dofs_, &m.grid),
-      pattern_(build_rank_pattern(stencils_, assembler_.subset(), dofs_)),
+      pattern_(build_rank_pattern(stencils_, dofs_)),
       smoother_(assembler_, pattern_, m.regularisation.length_scale, {}, solver, ranks::distributed()) {
   for (int p = 0; p < m.points.size(); ++p)
     if (slots_[m.points.material[p]].nonlocal >= 0) regularised_points_.push_back(p);

@@ -20,18 +20,12 @@ class Assembler {
   using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, max_local, max_local>;
 
   /// With the grid, points are coloured for race-free threaded assembly (below); without
-  /// it the scatter-add is serial. `subset`: the points the loops visit (this rank's in a
-  /// distributed run, mpm/PointPartition.hpp), [first, last); default every point.
+  /// it the scatter-add is serial. (A distributed run's assembler is given its rank's
+  /// points, mpm/RankPoints.hpp.)
   Assembler(const PointStencils<dim>& stencils, const MaterialPoints<dim>& points, const DofMap& dofs,
-            const Grid<dim>* grid = nullptr, const int* first = nullptr, const int* last = nullptr)
-      : st_(stencils), points_(points), dofs_(dofs) {
-    if (first) {
-      subset_.assign(first, last);
-      std::sort(subset_.begin(), subset_.end());
-    } else {
-      subset_.resize(points.size());
-      for (int p = 0; p < points.size(); ++p) subset_[p] = p;
-    }
+            const Grid<dim>* grid = nullptr)
+      : st_(stencils), points_(points), dofs_(dofs), subset_(points.size()) {
+    for (int p = 0; p < points.size(); ++p) subset_[p] = p;
     if (grid) colour(*grid);
   }
 
@@ -157,7 +151,7 @@ class Assembler {
     return q;
   }
 
-  /// f_i = sum_p N_i(x_p) q_p V_p   (eq. 1 with a point "force" q_p V_p), over the subset
+  /// f_i = sum_p N_i(x_p) q_p V_p   (eq. 1 with a point "force" q_p V_p)
   Vector load(const std::vector<double>& q) const {
     Vector f = Vector::Zero(dofs_.num_dofs());
     for (const int p : subset_) {
@@ -183,10 +177,7 @@ class Assembler {
     return F;
   }
 
-  /// The points the loops visit (ascending).
-  const std::vector<int>& subset() const { return subset_; }
-
-  /// The nodal fields G (one per column, equation numbering) at every point (not only the subset's):
+  /// The nodal fields G (one per column, equation numbering) at every point:
   /// out(p, j, value) receives sum_i N_i(x_p) G(i, j). Threads over points.
   template <class Derived, class Out>
   void interpolate_columns(const Eigen::MatrixBase<Derived>& G, Out&& out) const {
@@ -282,7 +273,7 @@ class Assembler {
   const PointStencils<dim>& st_;
   const MaterialPoints<dim>& points_;
   const DofMap& dofs_;
-  std::vector<int> subset_;  ///< the points the loops visit, in index order
+  std::vector<int> subset_;  ///< every point, in index order (an uncoloured assembler's runs point into it)
   bool coloured_ = false;
   std::vector<int> colour_start_, bucket_start_, order_;  ///< colour(): colour -> buckets -> points
 };
