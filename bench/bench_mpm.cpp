@@ -36,8 +36,8 @@
 // pattern + assembly + analysis + update only, which left the uncounted work out).
 // Under mpirun (R ranks, the `ranks` column) the figures are rank 0's: its phases include
 // its waits in the sums over the ranks, so they show the slowest rank's pace; peak_mib is
-// rank 0's process (every rank holds the whole model today). Only rank 0 prints and
-// writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
+// rank 0's process (each rank holds its own points, but reads the case and makes every
+// point first); `points` is the body's. Only rank 0 prints and writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
 // "with gradient" adds a gradient step after the load step (apply = "each_step"), shared
 // out over the step's iterations, its factorisation and solves counted with the solver's.
 // nonlocal_s is the regularisation's own work per Newton iteration (the kappa_bar
@@ -145,6 +145,8 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
       smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver})
           .solver_seconds;
   const double gradient_s = seconds_since(t0);
+  double points = m.points.size();  // a distributed run's rank holds its own points: the sum is the body's
+  ranks::sum(&points, 1);
   const PhaseTimes& t = step.phases;
   const double its = std::max(1, t.iterations);
   const double pattern = t.pattern / its, assembly = t.assembly / its, analysis = t.analysis / its,
@@ -162,7 +164,7 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   const double krylov = t.krylov / its;
   const std::string row = fmt::format(
       "{},{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.1f},{:.6f},{},{},{:.1f},{:.6f},{}", name,
-      dim, step.dofs, m.points.size(), step.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
+      dim, step.dofs, points, step.nonzeros, threads, pattern, assembly, analysis, factor, solve, update,
       gradient_s, peak_mib(), nonlocal, step.staggers, solver, krylov, wall, ranks::size());
   if (ranks::rank() != 0) return;
   csv << row << "\n";
@@ -172,7 +174,7 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
       "{:<11} {} dof {:>8}  points {:>8}  nnz {:>10}  its {}  cuts {}  pattern {:.4f}  assembly {:.4f}  "
       "analysis {:.4f}  factor {:.4f}  solve {:.4f}{}  update {:.4f}  wall {:.4f}  gradient {:.4f} (solver {:.4f})  "
       "peak {:.0f} MiB  ratio {:.2f}  with gradient {:.2f}\n",
-      name, solver, step.dofs, m.points.size(), step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis,
+      name, solver, step.dofs, points, step.nonzeros, t.iterations, step.cuts, pattern, assembly, analysis,
       factor, solve, t.krylov > 0 ? fmt::format(" ({:.0f} Krylov its)", krylov) : "", update, wall, gradient_s,
       gradient_solver_s, peak_mib(), ratio, ratio_g);
   if (step.staggers > 0)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Requirement (issue 14): a run on N MPI ranks gives the serial answer: positions,
-# stresses and state of every point (points_final.csv), the reactions and the gradient
-# fields to 1e-8 of each column's scale.
+# stresses and state of every point (points_final.csv), the reactions, the gradient
+# fields, the tracked points and the energy balance (gathered from the ranks that own the
+# points) to 1e-8 of each column's scale.
 #
 #   same_as_serial.sh GRADMPM MPIEXEC RANKS CASE WORKDIR [--set KEY=VALUE ...]
 #
@@ -21,7 +22,7 @@ rm -rf "$work" && mkdir -p "$work"
 "$mpiexec" --allow-run-as-root --oversubscribe -n "$ranks" "$gradmpm" run "$case" --out "$work/ranks" -q -j1 "$@" \
   "${rank_args[@]}"
 status=0
-for f in points_final.csv reactions.csv points_gradient.csv; do
+for f in points_final.csv reactions.csv points_gradient.csv tracked_points.csv energy.csv; do
   [ -f "$work/serial/$f" ] || continue
   [ -f "$work/ranks/$f" ] || { echo "$f: written by the serial run only"; status=1; continue; }
   echo -n "$f: "

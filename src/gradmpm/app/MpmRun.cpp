@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <optional>
 #include <sstream>
@@ -75,11 +76,10 @@ Series get_series(const Archive& a, const std::string& name) {
 }
 
 /// A distributed run's points at one step: each rank writes the piece
-/// points_NNNN_R.vtu, an equal share of the points (contiguous ids), into `folder`;
-/// returns the pieces' names once every rank has written its own. A rank that cannot
-/// write its piece stops every rank.
+/// points_NNNN_R.vtu, the points it owns, into `folder`; returns the pieces' names once
+/// every rank has written its own. A rank that cannot write its piece stops every rank.
 template <int dim>
-std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, int np, const PointColumns<dim>& table,
+std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, const PointColumns<dim>& table,
                                           const std::vector<std::string>& names) {
   const int size = ranks::size(), rank = ranks::rank();
   std::vector<std::string> pieces;
@@ -87,9 +87,7 @@ std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, int 
   std::string problem;
   try {
     StagedOutputs out(folder);
-    const auto first = static_cast<int>(static_cast<long long>(np) * rank / size),
-               last = static_cast<int>(static_cast<long long>(np) * (rank + 1) / size);
-    out.write_text(pieces[rank], table.vtu(names, first, last));
+    out.write_text(pieces[rank], table.vtu(names));
     out.commit();
   } catch (const OutputError& e) {
     problem = e.what();
@@ -113,6 +111,7 @@ void print_step(const StepInfo& info) {
                  : "",
              info.backtracks ? fmt::format("  [{} halved correction(s): a point inverted]", info.backtracks) : "",
              info.seconds);
+  if (info.migrated > 0) fmt::print("             {} point(s) moved to another rank\n", info.migrated);
   for (const std::string& why : info.cut_reasons) fmt::print("             cut: {}\n", why);
   std::fflush(stdout);
 }
@@ -153,7 +152,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     const bool in_pieces = ranks::distributed();
     const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
     const std::vector<std::string> pieces =
-        in_pieces ? write_vtu_pieces(options.pieces, step, m.points.size(), table, names) : std::vector<std::string>{};
+        in_pieces ? write_vtu_pieces(options.pieces, step, table, names) : std::vector<std::string>{};
     if (!writes) return;  // rank 0 writes the rest
     StagedOutputs out(dir);
     out.write_text(pf, in_pieces ? pvtu_points(table.vtk_layout(names), pieces) : table.vtu(names));
@@ -210,15 +209,38 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   // included, at equilibrium), the elastic energy they store, and what they dissipated.
   std::string energy = "step,load_factor,work,elastic_energy,dissipation\n";
   auto balance = [&](int step, double lambda) {
-    double work = 0.0, stored = 0.0;
+    double sums[2] = {0.0, 0.0};  // work, stored
     for (int p = 0; p < m.points.size(); ++p) {
-      work += m.points.work[p];
-      stored += m.elastic_energy(p);
+      sums[0] += m.points.work[p];
+      sums[1] += m.elastic_energy(p);
     }
-    fmt::format_to(std::back_inserter(energy), "{},{},{},{},{}\n", step, lambda, work, stored, work - stored);
+    ranks::sum(sums, 2);  // a distributed run: each rank's points
+    fmt::format_to(std::back_inserter(energy), "{},{},{},{},{}\n", step, lambda, sums[0], sums[1], sums[0] - sums[1]);
   };
   auto track = [&](int step, double lambda) {
-    tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
+    if (!ranks::distributed()) {
+      tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
+      return;
+    }
+    // Each rank the rows of the tracked points it owns, "k row" (k: the place in the
+    // list); rank 0 puts them in the list's order.
+    std::string mine;
+    for (std::size_t k = 0; k < output.track.size(); ++k) {
+      const auto at = std::lower_bound(m.point_ids.begin(), m.point_ids.end(), output.track[k]);
+      if (at == m.point_ids.end() || *at != output.track[k]) continue;
+      mine += fmt::format("{} ", k);
+      tracked_table.append_rows(mine, {double(step), lambda}, {at - m.point_ids.begin()}, tracked_columns);
+    }
+    const std::vector<std::string> from_ranks = ranks::gather_on_root(mine);
+    if (!writes) return;
+    std::vector<std::string> rows(output.track.size());
+    for (const std::string& text : from_ranks) {
+      std::istringstream in(text);
+      std::size_t k = 0;
+      std::string row;
+      while (in >> k && std::getline(in >> std::ws, row)) rows.at(k) = row + "\n";
+    }
+    for (const std::string& row : rows) tracked += row;
   };
   if (!quiet)
     fmt::print(
@@ -252,7 +274,11 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     if (!quiet)
       fmt::print("  restarting from {}: step {}, load factor {:.6g}\n", options.restart.string(), start.summary.steps,
                  start.load_factor);
-  } else {
+  }
+  // A distributed run: from here on each rank holds the points in its cells (and the
+  // gradient step their fields), the outputs gather what they need.
+  own_rank_points(m, stages);
+  if (!restart) {
     if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
     track(0, 0.0);
     balance(0, 0.0);
@@ -272,25 +298,33 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           classical_seconds += info.seconds;
           if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
             write_vtk(info.step, info.load_factor, &info);
-          if (!writes) return;
-          StagedOutputs out(dir);
-          out.write_text("newton_history.csv", history);
-          if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
-          if (reports) out.write_text("reactions.csv", reactions);
-          out.write_text("energy.csv", energy);
-          out.commit();
-          if (!quiet) print_step<dim>(info);
+          if (writes) {
+            StagedOutputs out(dir);
+            out.write_text("newton_history.csv", history);
+            if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
+            if (reports) out.write_text("reactions.csv", reactions);
+            out.write_text("energy.csv", energy);
+            out.commit();
+            if (!quiet) print_step<dim>(info);
+          }
           if (checkpoints.due(info)) {
-            Archive a;
-            put_checkpoint_header(a, case_text, dim, info.step);
-            save_run_state<dim>(a, m, info.after, stages);
-            save_outputs(a);
-            const auto t_write = Clock::now();
-            const std::string where = checkpoints.write(info.step, a, dir);
-            if (!quiet) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
+            // A distributed run's checkpoint is written by rank 0 with every point (in id
+            // order, as a serial run's); then the points go back to their owners.
+            collect_on_root(m, stages);
+            if (writes) {
+              Archive a;
+              put_checkpoint_header(a, case_text, dim, info.step);
+              save_run_state<dim>(a, m, info.after, stages);
+              save_outputs(a);
+              const auto t_write = Clock::now();
+              const std::string where = checkpoints.write(info.step, a, dir);
+              if (!quiet) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
+            }
+            migrate_to_owners(m, stages);
           }
         },
         start);
+    collect_on_root(m, stages);  // the final files read every point (a distributed run: on rank 0)
     if (!writes) return;
     const PointColumns<dim> table(m, gradient_step.fields());
     std::vector<std::string> final_columns = table.with_state(kFinalColumns);

@@ -34,7 +34,7 @@ void put(const Mat3& t, double* out) {
 template <int dim>
 PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* g) : model_(m) {
   const auto& P = m.points;
-  add({"id", Kind::Scalar, {"id"}, true, [](int p, double* o) { *o = p; }});
+  add({"id", Kind::Scalar, {"id"}, true, [&m](int p, double* o) { *o = m.id_of(p); }});
   add({"original_position", Kind::Vector, {"X", "Y", "Z"}, false, [&P](int p, double* o) {
          put<dim>(P.original_position[p], o);
        }});

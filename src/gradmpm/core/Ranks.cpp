@@ -1,7 +1,10 @@
 #include "gradmpm/core/Ranks.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <numeric>
 
 #ifdef GRADMPM_WITH_PETSC  // PETSc brings MPI: the distributed run needs both
@@ -96,6 +99,48 @@ void all_gather_rows(const double* mine, const std::vector<int>& counts, double*
   MPI_Allgatherv(mine, counts[rank()], MPI_DOUBLE, all, counts.data(), offsets.data(), MPI_DOUBLE, MPI_COMM_WORLD);
 }
 
+std::vector<char> exchange(const char* send, const std::vector<long long>& send_counts,
+                           std::vector<long long>& received_counts) {
+  const int n = size();
+  received_counts.assign(n, 0);
+  if (n == 1) {
+    received_counts[0] = send_counts[0];
+    return std::vector<char>(send, send + send_counts[0]);
+  }
+  MPI_Alltoall(send_counts.data(), 1, MPI_LONG_LONG, received_counts.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD);
+  // MPI's counts are int: the bytes go as blocks of 8 (doubles' size) up to 2^31 blocks per rank pair.
+  std::vector<int> sc(n), so(n), rc(n), ro(n);
+  long long s_at = 0, r_at = 0;
+  for (int r = 0; r < n; ++r) {
+    if (send_counts[r] % 8 != 0 || received_counts[r] % 8 != 0 || s_at / 8 > INT32_MAX || r_at / 8 > INT32_MAX ||
+        send_counts[r] / 8 > INT32_MAX)
+      throw std::length_error("ranks::exchange: counts must be multiples of 8 bytes below 16 GiB");
+    sc[r] = static_cast<int>(send_counts[r] / 8);
+    so[r] = static_cast<int>(s_at / 8);
+    rc[r] = static_cast<int>(received_counts[r] / 8);
+    ro[r] = static_cast<int>(r_at / 8);
+    s_at += send_counts[r];
+    r_at += received_counts[r];
+  }
+  std::vector<char> received(static_cast<std::size_t>(r_at));
+  MPI_Alltoallv(send, sc.data(), so.data(), MPI_DOUBLE, received.data(), rc.data(), ro.data(), MPI_DOUBLE,
+                MPI_COMM_WORLD);
+  return received;
+}
+
+std::vector<std::string> gather_on_root(const std::string& mine) {
+  if (size() == 1) return {mine};
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(rank() == 0 ? size() : 0), offsets(counts.size(), 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (rank() == 0) std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
+  std::string all(rank() == 0 ? static_cast<std::size_t>(offsets.back()) + counts.back() : 0, '\0');
+  MPI_Gatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+  std::vector<std::string> out;
+  for (std::size_t r = 0; r < counts.size(); ++r) out.push_back(all.substr(offsets[r], counts[r]));
+  return out;
+}
+
 std::vector<char> broadcast(std::vector<char> bytes) {
   if (size() == 1) return bytes;
   long long n = static_cast<long long>(bytes.size());
@@ -124,6 +169,12 @@ std::vector<int> all_gather(const std::vector<int>& mine) { return mine; }
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
   std::copy(mine, mine + counts[0], all);
 }
+std::vector<char> exchange(const char* send, const std::vector<long long>& send_counts,
+                           std::vector<long long>& received_counts) {
+  received_counts = send_counts;
+  return std::vector<char>(send, send + send_counts[0]);
+}
+std::vector<std::string> gather_on_root(const std::string& mine) { return {mine}; }
 std::vector<char> broadcast(std::vector<char> bytes) { return bytes; }
 void abort(int code) { std::exit(code); }
 

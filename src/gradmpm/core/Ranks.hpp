@@ -4,14 +4,16 @@
 // test program, a build without PETSc and MPI) there is one rank and every operation is
 // the identity, so serial code calls them unconditionally.
 //
-// Every rank holds every point between load steps (replicated points, issue 14); a load
-// step and the gradient step work on this rank's points only (mpm/RankPoints.hpp): their
-// stencils, Newton's point loops, the sparse matrices' shares (PETSc adds them up and
-// splits the linear solves), the map to the points, after which the ranks swap the
-// points' results. Everything else runs identically on every rank. Sums are reduced to rank 0 and broadcast, so every
-// rank sees the same bits and takes the same branches (a Newton decision never differs between ranks).
+// Each rank owns the points in its run of the grid's cells (mpm/PointMigration.hpp, issue
+// 14): a load step and the gradient step work on them only (their stencils, Newton's point
+// loops, the sparse matrices' shares, which PETSc adds up and splits the linear solves
+// of), and after each converged step the points that moved into another rank's cells are
+// sent to it. Everything else runs identically on every rank. Sums are reduced to rank 0
+// and broadcast, so every rank sees the same bits and takes the same branches (a Newton
+// decision never differs between ranks).
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace gradmpm::ranks {
@@ -49,6 +51,15 @@ std::vector<int> all_gather(const std::vector<int>& mine);
 /// The ranks' local rows [offset_r, offset_r + count_r) of a vector of sum(counts)
 /// values, gathered on every rank; `counts` known to all.
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all);
+
+/// Point-to-point exchange (MPI_Alltoallv of bytes): send_counts[r] bytes of `send`, in
+/// rank order, go to rank r; returns what every rank sent to this one, in rank order.
+/// received_counts[r]: the bytes that came from rank r.
+std::vector<char> exchange(const char* send, const std::vector<long long>& send_counts,
+                           std::vector<long long>& received_counts);
+
+/// Every rank's `mine` on rank 0, in rank order (empty on the other ranks).
+std::vector<std::string> gather_on_root(const std::string& mine);
 
 /// Rank 0's message on every rank (a decision only rank 0 could make:
 /// whether the output folder can be written).

@@ -12,7 +12,6 @@
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/gradient/Helmholtz.hpp"
-#include "gradmpm/mpm/RankPoints.hpp"
 #include "gradmpm/points/Transfer.hpp"
 
 namespace gradmpm {
@@ -23,10 +22,10 @@ namespace {
 /// scalar equation numbering, pattern, assembler, and the factorised operators (one for
 /// natural boundaries, one per distinct Dirichlet set of u-RA).
 ///
-/// Its methods take and return fields at every point (indexed by id). A distributed run's
-/// context works on this rank's points (the load steps' partition, mpm/RankPoints.hpp):
-/// their stencils, their share of the Helmholtz systems (the solver adds the shares up)
-/// and the smoothed fields at them, which the ranks then swap.
+/// Its methods take and return fields at the model's points. A distributed run's model
+/// holds this rank's points (mpm/RankPoints.hpp): the context makes their stencils, their
+/// share of the Helmholtz systems (the solver adds the shares up) and the smoothed fields
+/// at them.
 template <int dim>
 class SmoothingContext {
  public:
@@ -34,13 +33,10 @@ class SmoothingContext {
       : model_(m),
         l_(l),
         backend_(backend),
-        split_(ranks::distributed()),
-        part_(rank_points(m)),
-        ids_(part_.begin(ranks::rank()), part_.end(ranks::rank())),
-        local_(split_ ? m.points.subset(ids_) : MaterialPoints<dim>{}),
+        split_(owned_points(m)),
         st_(stencils(m)),
         dofs_(st_, m.grid.num_nodes(), 1, split_),
-        assembler_(st_, points(), dofs_, &m.grid),
+        assembler_(st_, m.points, dofs_, &m.grid),
         pattern_(build_rank_pattern(st_, dofs_)) {}
 
   /// Natural-boundary smoothing of a symmetric tensor field at the points: the
@@ -58,7 +54,7 @@ class SmoothingContext {
     if (!natural_)
       natural_ =
           std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, std::vector<int>{}, backend_, split_);
-    Eigen::MatrixXd F = assembler_.load_columns(nc, [&](int p, int j) { return t[id(p)](comps[j][0], comps[j][1]); });
+    Eigen::MatrixXd F = assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); });
     Eigen::MatrixXd G = natural_->smooth_loads(F);
     for (int j = 0; j < nc; ++j) {
       const std::vector<int> zero = odd_dofs(comps[j][0], comps[j][1]);
@@ -69,10 +65,10 @@ class SmoothingContext {
       for (int d : zero) f(d, 0) = 0.0;
       G.col(j) = sm->smooth_loads(f).col(0);
     }
-    std::vector<Mat3> out(points().size(), Mat3::Zero());
+    std::vector<Mat3> out(model_.points.size(), Mat3::Zero());
     assembler_.interpolate_columns(
         G, [&](int p, int j, double v) { out[p](comps[j][0], comps[j][1]) = out[p](comps[j][1], comps[j][0]) = v; });
-    return at_every_point(std::move(out));
+    return out;
   }
 
   /// The equations of the roller nodes across which component (i, j) is odd (none for
@@ -101,8 +97,7 @@ class SmoothingContext {
   /// own nodal values: with the grid reset after every step these are not stored, so
   /// they are the L2 projection of the point field, M u = sum_p N c_p V_p (exact for
   /// linear fields; the prescribed value itself in the FEM limit). Returns nodal values.
-  Vector smooth_displacement(const std::vector<double>& c_all, int comp) {
-    const std::vector<double> c = at_my_points(c_all);
+  Vector smooth_displacement(const std::vector<double>& c, int comp) {
     std::vector<int> dofs;
     for (const auto& k : model_.constraints)
       if (k.component == comp && k.gradient_boundary && dofs_.active(k.node)) dofs.push_back(dofs_.dof(k.node, 0));
@@ -118,7 +113,7 @@ class SmoothingContext {
     return sm->smooth_point_field(c, values);
   }
 
-  /// The L2 projection of a point field (at this rank's points) onto the nodes, M u = sum_p N c_p V_p. The
+  /// The L2 projection of a point field onto the nodes, M u = sum_p N c_p V_p. The
   /// consistent mass matrix is singular when the points do not determine every nodal
   /// value (GIMP nodes whose support only touches the material, e.g. beyond a symmetry
   /// plane, or fewer points than nodes in a cell row): then the lumped projection,
@@ -138,7 +133,7 @@ class SmoothingContext {
     return u;
   }
 
-  /// sum_p N_i c_p V_p over every point (c at this rank's points; the ranks add theirs).
+  /// sum_p N_i c_p V_p over every point (a distributed run: the ranks add their points').
   Vector summed_load(const std::vector<double>& c) const {
     Vector f = assembler_.load(c);
     if (split_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));
@@ -154,7 +149,7 @@ class SmoothingContext {
     return t;
   }
 
-  /// Point values and gradients (at every point) of a nodal scalar field.
+  /// Point values and gradients (at the model's points) of a nodal scalar field.
   void interpolate(const Vector& nodal, std::vector<double>& value, std::vector<Vec<dim>>& gradient) const {
     value.assign(st_.size(), 0.0);
     gradient.assign(st_.size(), Vec<dim>::Zero());
@@ -164,46 +159,30 @@ class SmoothingContext {
         value[p] += st_[p].N[a] * v;
         gradient[p] += st_[p].dN[a] * v;
       }
-    value = at_every_point(std::move(value));
-    gradient = at_every_point(std::move(gradient));
   }
 
  private:
-  /// The stencils of points(); points outside the grid end the run as a solver failure
+  /// Whether the model holds a distributed run's rank's points (the driver's ownership).
+  static bool owned_points(const Model<dim>& m) {
+    if (!ranks::distributed()) return false;
+    if (m.point_ids.size() != static_cast<std::size_t>(m.points.size()))
+      throw std::logic_error("gradient step: a distributed run's points must be owned (own_rank_points)");
+    return true;
+  }
+  /// The stencils of the points; points outside the grid end the run as a solver failure
   /// (no cut of the next step could bring them back), on every rank of a distributed run.
   PointStencils<dim> stencils(const Model<dim>& m) const {
     try {
-      return evaluate_stencils(m.grid, points(), m.basis, split_ ? &ids_ : nullptr);
+      return evaluate_stencils(m.grid, m.points, m.basis, split_ ? &m.point_ids : nullptr);
     } catch (const std::out_of_range& e) {
       throw SolverError(fmt::format("gradient step: {}", e.what()));
     }
-  }
-  /// The points the context works on: this rank's in a distributed run, else every point.
-  const MaterialPoints<dim>& points() const { return split_ ? local_ : model_.points; }
-  int id(int p) const { return split_ ? ids_[p] : p; }
-  /// A field at every point, at this rank's points.
-  std::vector<double> at_my_points(const std::vector<double>& all) const {
-    if (!split_) return all;
-    std::vector<double> mine(ids_.size());
-    for (std::size_t k = 0; k < ids_.size(); ++k) mine[k] = all[ids_[k]];
-    return mine;
-  }
-  /// A field at this rank's points, at every point (the ranks swap theirs).
-  template <class T>
-  std::vector<T> at_every_point(std::vector<T> mine) const {
-    if (!split_) return mine;
-    std::vector<T> all(model_.points.size());
-    gather_points(part_, mine.data(), all.data());
-    return all;
   }
 
   const Model<dim>& model_;
   double l_;
   LinearSolverSettings backend_;
   bool split_;                 ///< distributed: each rank assembles its points' share (HelmholtzSmoother)
-  PointPartition part_;        ///< the points of each rank (one run of every point when not split)
-  std::vector<int> ids_;       ///< this rank's points
-  MaterialPoints<dim> local_;  ///< distributed: a copy of this rank's points
   PointStencils<dim> st_;
   DofMap dofs_;
   Assembler<dim> assembler_;
@@ -368,6 +347,21 @@ void GradientTracker<dim>::restore(const Archive& a, const std::string& prefix) 
   a.get_objects(prefix + "previous_position", n, prev_position_);
   a.get_objects(prefix + "previous_strain", n, prev_strain_);
   a.get_objects(prefix + "previous_stress", n, prev_stress_);
+}
+
+template <int dim>
+void GradientTracker<dim>::migrate(const PointMigration& migration) {
+  for (auto* a : {&fields_.strain, &fields_.stress, &prev_strain_, &prev_stress_}) migration.apply(*a);
+  migration.apply(fields_.displacement);
+  migration.apply(prev_position_);
+}
+
+template <int dim>
+void GradientStep<dim>::migrate(const PointMigration& migration) {
+  if (tracker_) tracker_->migrate(migration);
+  if (latest_)  // (recomputed after the step that migrates: moved only to stay the points')
+    for (auto* a : {&latest_->strain, &latest_->stress}) migration.apply(*a);
+  if (latest_) migration.apply(latest_->displacement);
 }
 
 template <int dim>

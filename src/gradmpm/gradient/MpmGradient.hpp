@@ -79,6 +79,8 @@ class GradientTracker {
   /// Its state (the accumulated fields and the classical fields of the last step) under `prefix`.
   void save(Archive& a, const std::string& prefix) const;
   void restore(const Archive& a, const std::string& prefix);
+  /// Moves its per-point arrays with the points (a distributed run).
+  void migrate(const PointMigration& migration);
 
  private:
   GradientSettings settings_;
@@ -103,6 +105,7 @@ class GradientStep final : public PostStepStage<dim> {
   /// fields = points carries its accumulated fields; fields = grid carries nothing.
   void save(Archive& a) const override;
   void restore(const Archive& a) override;
+  void migrate(const PointMigration& migration) override;
   /// The latest enriched fields, or null when none have been computed yet.
   const EnrichedFields<dim>* fields() const;
   double seconds() const { return seconds_ + (tracker_ ? tracker_->seconds() : 0.0); }

@@ -4,8 +4,8 @@
 // point loop of every Newton iteration (internal force, tangent), then eq. (2): the
 // converged increment mapped to the points. Internal to the driver.
 //
-// In a distributed run the step is given the model of this rank's points only
-// (mpm/RankPoints.hpp) and works on them alone: their stencils, updates, internal forces,
+// In a distributed run the model holds this rank's points only (Model::point_ids,
+// mpm/RankPoints.hpp) and the step works on them alone: their stencils, updates, internal forces,
 // their share of the tangent and the map to them. What needs every rank's points is
 // summed or gathered where it is made: the active nodes (so every rank numbers the same
 // equations), the supports of F-bar's weak-node cut, the cells' occupancy of the ghost
@@ -46,14 +46,14 @@ struct StepFailure {
 template <int dim>
 class LoadStep {
  public:
-  /// `m`: the model of the points the step works on; in a distributed run this rank's,
-  /// `ids` their numbers in the whole body (rank_points(); messages name points by them).
-  LoadStep(const Model<dim>& m, double lambda_end, double dlambda, std::vector<int> ids = {})
+  /// `m`: the model of the points the step works on; in a distributed run this rank's
+  /// (Model::point_ids: their numbers in the whole body, by which messages name them).
+  LoadStep(const Model<dim>& m, double lambda_end, double dlambda)
       : model_(m),
         split_(ranks::distributed()),
-        ids_(split_ && ids.size() != static_cast<std::size_t>(m.points.size())
-                 ? throw std::logic_error("a distributed run's load step is given its rank's points and their ids")
-                 : std::move(ids)),
+        ids_(split_ && m.point_ids.size() != static_cast<std::size_t>(m.points.size())
+                 ? throw std::logic_error("a distributed run's load step needs the points owned (own_rank_points)")
+                 : m.point_ids),
         st_(stencils(m, split_ ? &ids_ : nullptr)),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
         dofs_(st_, m.grid.num_nodes(), dim, split_),
@@ -233,8 +233,7 @@ class LoadStep {
     if (contact_) contact_->add_matrix(K);
   }
 
-  /// Eq. (2): maps the converged increment to the points and updates their state (what it
-  /// writes: committed_arrays() of mpm/RankPoints.hpp, and the state block).
+  /// Eq. (2): maps the converged increment to the points and updates their state.
   void commit(Model<dim>& m, const Vector& du) {
     auto& pts = m.points;
     pts.state = trial_state_;  // the material histories of the converged iterate

@@ -73,6 +73,13 @@ struct Model {
   std::vector<NamedNodeSet> node_sets;
   std::vector<RigidBox<dim>> rigid_boxes;
   Regularisation regularisation;
+  /// A distributed run's points are owned (mpm/PointMigration.hpp): `points` holds this
+  /// rank's, and its point k is point point_ids[k] of the whole body (increasing; its row
+  /// of points_final.csv). Empty while `points` holds every point in id order (a serial run).
+  std::vector<int> point_ids;
+  /// A distributed run's cut of the grid: rank r owns the cells whose lower-corner node is
+  /// in [rank_cells[r], rank_cells[r + 1]) (mpm/RankPoints.hpp); fixed for the run.
+  std::vector<int> rank_cells;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}
 
@@ -101,6 +108,8 @@ struct Model {
       if (!m->symmetric_tangent()) return false;
     return true;
   }
+  /// Point p's number in the whole body.
+  int id_of(int p) const { return point_ids.empty() ? p : point_ids[p]; }
   const Material& material_of(int p) const { return *materials[points.material[p]]; }
   /// Calls f(state) with point p's state (its material's initial state before the state
   /// block is initialised).
@@ -194,6 +203,7 @@ struct StepInfo {
   int indefinite_solves =
       0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
   int backtracks = 0;  ///< halvings of Newton corrections that inverted a point (the converged attempt)
+  int migrated = 0;    ///< a distributed run: points that changed rank after the step (all ranks')
   bool last = false;   ///< the step that reaches load factor 1
   DriverState after;   ///< the driver's state after this step (what a checkpoint of it records)
   /// Grid fields of the step, computed only when called (outputs ask for them on the

@@ -250,7 +250,42 @@ Vector solve_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& 
   }
 }
 
+template <int dim>
+void migrate_stages(const std::vector<PostStepStage<dim>*>& stages, const PointMigration& migration) {
+  for (PostStepStage<dim>* stage : stages) stage->migrate(migration);
+}
+
 }  // namespace
+
+template <int dim>
+void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
+  if (!ranks::distributed() || !model.point_ids.empty()) return;
+  model.rank_cells = rank_cells(model.grid, model.points.original_position, ranks::size());
+  const std::vector<int> rank = owners(model);
+  std::vector<int> mine;
+  for (int p = 0; p < model.points.size(); ++p)
+    if (rank[p] == ranks::rank()) mine.push_back(p);
+  const PointMigration keep = PointMigration::keep(std::move(mine));
+  migrate_points(model, keep);
+  migrate_stages(stages, keep);
+}
+
+template <int dim>
+int migrate_to_owners(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
+  if (!ranks::distributed()) return 0;
+  const PointMigration move = PointMigration::exchange(owners(model), model.point_ids);
+  migrate_points(model, move);
+  migrate_stages(stages, move);
+  return move.sent();
+}
+
+template <int dim>
+void collect_on_root(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
+  if (!ranks::distributed()) return;
+  const PointMigration move = PointMigration::exchange(std::vector<int>(model.points.size(), 0), model.point_ids);
+  migrate_points(model, move);
+  migrate_stages(stages, move);
+}
 
 template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
@@ -258,15 +293,13 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
                             const DriverState& start) {
   RunSummary summary = start.summary;
   if (!model.state_initialised()) model.initialise_state();
+  own_rank_points(model, stages);  // a distributed run: each rank its points (mpm/RankPoints.hpp)
   const double nominal = 1.0 / settings.load_steps;
   double lambda = start.load_factor, dlambda = start.next_increment > 0.0 ? start.next_increment : nominal;
   StepSolvers solvers;  // across the steps: an unchanged pattern keeps its analysis
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
-    // A distributed run's step works on the model of this rank's points (mpm/RankPoints.hpp).
-    const bool split = ranks::distributed();
-    std::unique_ptr<Model<dim>> local;    // (made before the step that refers to it, dropped after it)
     std::unique_ptr<LoadStep<dim>> step;  // kept for the grid fields the observer may ask for
     Vector du;
     const auto t0 = Clock::now();
@@ -283,26 +316,23 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       try {
         auto t0 = Clock::now();
         step.reset();
-        PointPartition part;
-        std::vector<int> ids;
-        if (split) {
-          part = rank_points(model);
-          ids.assign(part.begin(ranks::rank()), part.end(ranks::rank()));
-          local = std::make_unique<Model<dim>>(local_model(model, ids));
-        }
-        Model<dim>& points_model = split ? *local : model;  // the points this rank works on
-        try {
-          step = std::make_unique<LoadStep<dim>>(points_model, lambda + dlambda, dlambda, std::move(ids));
+        try {  // (a distributed run: on this rank's points)
+          step = std::make_unique<LoadStep<dim>>(model, lambda + dlambda, dlambda);
         } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
           throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
         }
         info.phases.pattern = seconds_since(t0);
         info.dofs = step->dofs().num_dofs();
         info.nonzeros = step->pattern().nonZeros();
-        du = solve_step(*step, points_model, settings, info, solvers);
+        du = solve_step(*step, model, settings, info, solvers);
         t0 = Clock::now();
-        step->commit(points_model, du);
-        if (split) share_committed(part, local->points, model.points);  // every rank holds every point again
+        step->commit(model, du);
+        info.migrated = migrate_to_owners(model, stages);  // points now in another rank's cells go to it
+        if (ranks::distributed()) {
+          double moved = info.migrated;
+          ranks::sum(&moved, 1);
+          info.migrated = static_cast<int>(moved);
+        }
         info.phases.update = seconds_since(t0);
         step->release_newton_data();
         break;
@@ -345,6 +375,15 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   }
   return summary;
 }
+
+#define GRADMPM_OWNERSHIP(dim)                                                                   \
+  template void own_rank_points<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);    \
+  template int migrate_to_owners<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);   \
+  template void collect_on_root<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);
+GRADMPM_OWNERSHIP(1)
+GRADMPM_OWNERSHIP(2)
+GRADMPM_OWNERSHIP(3)
+#undef GRADMPM_OWNERSHIP
 
 template RunSummary run_quasi_static<1>(Model<1>&, const NewtonSettings&, const std::vector<PostStepStage<1>*>&,
                                         const StepObserver<1>&, const DriverState&);

@@ -9,6 +9,7 @@
 //       r = f_ext - f_int; stop when |r_free| / max(|f_ext|, |f_int|) < tol
 //       K d = r (CHOLMOD, symbolic analysis reused), du += d
 //     map du to the points (eq. 2), update x, F, volume, stress, domains; reset the grid
+//     (on several MPI ranks: points that moved into another rank's cells go to it)
 //     post-step stages (the gradient step, ...), then the observer (outputs)
 //
 // A failing step (no convergence in max_iterations, divergence, a singular tangent) is
@@ -20,6 +21,7 @@
 
 #include "gradmpm/io/Archive.hpp"
 #include "gradmpm/mpm/Model.hpp"
+#include "gradmpm/mpm/PointMigration.hpp"
 
 namespace gradmpm {
 
@@ -41,7 +43,26 @@ class PostStepStage {
   /// (app/Checkpoint.hpp) and takes it back on restart, under names starting "name()/".
   virtual void save(Archive&) const {}
   virtual void restore(const Archive&) {}
+  /// A distributed run's points changed ranks: a stage that carries arrays with one entry
+  /// per point moves each of them with `migration` (PointMigration::apply; a collective call).
+  virtual void migrate(const PointMigration&) {}
 };
+
+/// A distributed run's point ownership (mpm/RankPoints.hpp, docs/parallel.md); in a
+/// serial run each is a no-op. Collective calls, the stages' per-point arrays moved with
+/// the points.
+/// The cut of the grid made from the model's points (every rank holds every point, just
+/// read or restored), and each rank keeps the points in its cells. Nothing is done when
+/// the points are owned already.
+template <int dim>
+void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
+/// Points that are in another rank's cells go to it; returns how many this rank sent.
+template <int dim>
+int migrate_to_owners(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
+/// Every point to rank 0, in id order (a checkpoint, the final outputs); migrate_to_owners
+/// gives them back.
+template <int dim>
+void collect_on_root(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
 
 /// Runs the analysis from load factor 0 (or from `start`, a restart) to 1 in
 /// settings.load_steps nominal steps.
