@@ -195,7 +195,7 @@ TEST(FBar, RankPartitionKeepsEachCellOnOneRank) {
 /// the MPI tests made von Mises, yielding under its weight below about mid-height.
 const std::vector<std::string> kPlasticColumn = {"materials.soil.model=von-mises", "materials.soil.yield_stress=5.0"};
 
-/// How often a point's rank (rank_points() of each load step on 2 and 3 ranks)
+/// How often a point's rank (points_of_ranks after each load step on 2 and 3 ranks: the rank that owns it)
 /// changes from one load step to the next over a run of `file`.
 template <int dim>
 std::array<int, 2> rank_changes(const std::string& file, const std::vector<std::string>& sets) {
