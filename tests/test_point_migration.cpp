@@ -1,0 +1,110 @@
+// Requirement (issue 14, stage 4b): a distributed run's points travel between ranks with
+// every per-point array, their state and their ids, and a rank's points are listed in
+// increasing id whichever way they came (mpm/PointMigration.hpp). The exchange itself is
+// MPI's (the Mpi.* tests run it on 2 and 3 ranks against the serial answer); here, on one
+// rank, the bookkeeping around it: the order the received rows are put in, rows of every
+// width (4-byte integers padded to the 8-byte blocks the exchange moves, 3x3 matrices,
+// state blocks of several values a point), and the points a rank keeps.
+#include <gtest/gtest.h>
+
+#include <numeric>
+#include <string>
+#include <type_traits>
+
+#include "MpmTestUtil.hpp"
+#include "gradmpm/mpm/PointMigration.hpp"
+#include "gradmpm/mpm/RankPoints.hpp"
+
+using namespace gradmpm;
+using namespace gradmpm::test;
+
+TEST(PointMigration, ReceivedPointsAreListedInIncreasingIdWithEveryArray) {
+  // Four points held in the order of ids 5, 2, 9, 0 (as a rank receives them from others):
+  // after the exchange (every point to this rank) every array follows the ids' order.
+  const std::vector<int> ids = {5, 2, 9, 0};
+  std::vector<int> material = {50, 20, 90, 0};
+  std::vector<double> volume = {5.5, 2.5, 9.5, 0.5};
+  std::vector<Vec<3>> x = {Vec<3>(5, 5.1, 5.2), Vec<3>(2, 2.1, 2.2), Vec<3>(9, 9.1, 9.2), Vec<3>(0, 0.1, 0.2)};
+  std::vector<Mat3> F(4);
+  for (int p = 0; p < 4; ++p) F[p] = Mat3::Constant(ids[p]) + Mat3::Identity() * 0.25;
+  std::vector<double> state(4 * 3);  // three values a point
+  for (int p = 0; p < 4; ++p)
+    for (int k = 0; k < 3; ++k) state[p * 3 + k] = 10.0 * ids[p] + k;
+  std::vector<int> moved_ids = ids;
+
+  const PointMigration m = PointMigration::exchange(std::vector<int>(4, 0), ids);
+  EXPECT_EQ(m.ids(), (std::vector<int>{0, 2, 5, 9}));
+  EXPECT_EQ(m.sent(), 0) << "nothing left this rank";
+  m.apply(material);
+  m.apply(volume);
+  m.apply(x);
+  m.apply(F);
+  m.apply(state, 3);
+  m.apply(moved_ids);
+  EXPECT_EQ(moved_ids, m.ids());
+  EXPECT_EQ(material, (std::vector<int>{0, 20, 50, 90}));
+  EXPECT_EQ(volume, (std::vector<double>{0.5, 2.5, 5.5, 9.5}));
+  for (int p = 0; p < 4; ++p) {
+    const int id = m.ids()[p];
+    EXPECT_EQ(x[p], Vec<3>(id, id + 0.1, id + 0.2)) << "point " << id;
+    EXPECT_EQ(F[p], Mat3(Mat3::Constant(id) + Mat3::Identity() * 0.25)) << "point " << id;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(state[p * 3 + k], 10.0 * id + k) << "point " << id;
+  }
+}
+
+TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
+  // A rank that holds every point keeps its own: every array, the state block and the ids
+  // are those of MaterialPoints::subset (written independently), and Model::id_of names them.
+  Model<2> m = make_column<2>(6, BasisKind::MPM);
+  m.initialise_state();
+  for (int p = 0; p < m.points.size(); ++p) {  // distinct values in every array
+    m.points.work[p] = 0.5 * p;
+    m.points.stress[p] = Mat3::Constant(p);
+    m.points.force[p] = Vec<2>(p, -p);
+  }
+  const std::vector<int> mine = {1, 4, 5, 10};
+  const MaterialPoints<2> expected = m.points.subset(mine);
+  migrate_points(m, PointMigration::keep(mine));
+  EXPECT_EQ(m.point_ids, mine);
+  ASSERT_EQ(m.points.size(), 4);
+  for (int p = 0; p < 4; ++p) EXPECT_EQ(m.id_of(p), mine[p]);
+  int arrays = 0;
+  m.points.for_each_array([&](const char* name, const auto& a) {
+    ++arrays;
+    expected.for_each_array([&](const char* other, const auto& b) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(a)>, std::decay_t<decltype(b)>>)
+        if (std::string(name) == other) EXPECT_TRUE(a == b) << name;
+    });
+  });
+  EXPECT_EQ(arrays, 13);
+  EXPECT_EQ(m.points.state, expected.state);
+}
+
+TEST(RankPoints, EachPointHasOneOwnerAndTheCutIsFixedByTheReferenceConfiguration) {
+  // owners(): the rank of each point's current cell under the cut of the reference
+  // positions; a point moved down by a cell at a cut belongs to the rank below.
+  Model<2> m = make_column<2>(12, BasisKind::MPM);
+  m.rank_cells = rank_cells(m.grid, m.points.original_position, 3);
+  ASSERT_EQ(m.rank_cells.size(), 4u);
+  EXPECT_EQ(m.rank_cells.front(), 0);
+  EXPECT_EQ(m.rank_cells.back(), m.grid.num_nodes());
+  std::vector<int> count(3, 0);
+  for (const int r : owners(m)) ++count[r];
+  EXPECT_EQ(count, (std::vector<int>{16, 16, 16})) << "12 cells of 4 points, cut at equal counts";
+  // Move rank 1's lowest points (its first cell row, the grid's 6th: cells of rank 0 are
+  // rows 2 to 5, the first row below the column being empty) down by one cell.
+  const double h = m.grid.cell_size()[1];
+  const std::vector<int> before = owners(m);
+  int moved = 0;
+  for (int p = 0; p < m.points.size(); ++p)
+    if (before[p] == 1 && m.points.position[p][1] < m.grid.origin()[1] + 6.0 * h) {
+      m.points.position[p][1] -= h;
+      ++moved;
+    }
+  ASSERT_GT(moved, 0);
+  const std::vector<int> after = owners(m);
+  int changed = 0;
+  for (int p = 0; p < m.points.size(); ++p) changed += after[p] != before[p];
+  EXPECT_EQ(changed, moved);
+  EXPECT_EQ(rank_cells(m.grid, m.points.original_position, 3), m.rank_cells) << "the cut does not move";
+}
