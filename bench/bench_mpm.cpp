@@ -36,8 +36,7 @@
 // pattern + assembly + analysis + update only, which left the uncounted work out).
 // Under mpirun (R ranks, the `ranks` column) the figures are rank 0's: its phases include
 // its waits in the sums over the ranks, so they show the slowest rank's pace; peak_mib is
-// rank 0's process (each rank holds its own points, but reads the case and makes every
-// point first); `points` is the body's. Only rank 0 prints and writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
+// rank 0's process (each rank makes and holds its own points); `points` is the body's. Only rank 0 prints and writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
 // "with gradient" adds a gradient step after the load step (apply = "each_step"), shared
 // out over the step's iterations, its factorisation and solves counted with the solver's.
 // nonlocal_s is the regularisation's own work per Newton iteration (the kappa_bar
@@ -129,7 +128,7 @@ int reported_step = 2;
 
 template <int dim>
 void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads) {
-  MpmCase<dim> c = read_mpm_case<dim>(cf);
+  MpmCase<dim> c = read_mpm_case<dim>(cf, ranks::distributed());  // (each rank its own points)
   Model<dim>& m = c.model;
   const NewtonSettings& newton = c.newton;
   StepInfo step;
@@ -145,8 +144,9 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
       smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver})
           .solver_seconds;
   const double gradient_s = seconds_since(t0);
-  double points = m.points.size();  // a distributed run's rank holds its own points: the sum is the body's
-  ranks::sum(&points, 1);
+  double owned = m.points.size();  // a distributed run's rank holds its own points: the sum is the body's
+  ranks::sum(&owned, 1);
+  const long long points = static_cast<long long>(owned);
   const PhaseTimes& t = step.phases;
   const double its = std::max(1, t.iterations);
   const double pattern = t.pattern / its, assembly = t.assembly / its, analysis = t.analysis / its,

@@ -108,3 +108,27 @@ TEST(RankPoints, EachPointHasOneOwnerAndTheCutIsFixedByTheReferenceConfiguration
   EXPECT_EQ(changed, moved);
   EXPECT_EQ(rank_cells(m.grid, m.points.original_position, 3), m.rank_cells) << "the cut does not move";
 }
+
+TEST(RankPoints, TheCutFromCountsIsTheCutOfThePointsSortedByKey) {
+  // rank_cells_of_counts (the reader's, from counts per cell without making the points)
+  // and partition_points (the points sorted by key, cut at equal counts, moved on past the
+  // rest of a key) give each rank the same first cell, on uneven keys with empty ones.
+  std::vector<int> key;
+  const int num_keys = 40;
+  unsigned seed = 7;
+  for (int p = 0; p < 500; ++p) {
+    seed = seed * 1103515245u + 12345u;
+    const int k = static_cast<int>((seed >> 16) % num_keys);
+    if (k % 7 != 3) key.push_back(k);  // some keys without points
+  }
+  std::vector<long long> per_key(num_keys, 0);
+  for (const int k : key) ++per_key[k];
+  for (int ranks = 2; ranks <= 9; ++ranks) {
+    const PointPartition part = partition_points(key, num_keys, ranks);
+    std::vector<int> first(ranks + 1, num_keys);
+    first[0] = 0;
+    for (int r = 1; r < ranks; ++r)
+      if (part.start[r] < static_cast<int>(key.size())) first[r] = key[part.order[part.start[r]]];
+    EXPECT_EQ(rank_cells_of_counts(per_key, ranks), first) << ranks << " ranks";
+  }
+}

@@ -13,7 +13,9 @@
 #include "gradmpm/app/MemoryCheck.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
+#include "gradmpm/mpm/RankPoints.hpp"
 #include "gradmpm/points/Generate.hpp"
 
 namespace gradmpm {
@@ -97,7 +99,7 @@ void read_regularisation(const CaseFile& cf, const std::vector<std::string>& nam
 }  // namespace
 
 template <int dim>
-MpmCase<dim> read_mpm_case(CaseFile& cf) {
+MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   for (const auto& s : mpm_sections())
     if (s.name == "linear_solver")
       declare_linear_solver_section(cf);
@@ -162,6 +164,17 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
   double planned_points = 0.0, planned_cells = 0.0;
   std::vector<std::function<bool(const Vec<dim>&)>> earlier_bodies;  // their insides, strict
+  // A distributed run's rank makes only the points in its cells (rank_points_only): the
+  // bodies are visited twice, first to check and count their points per cell (nothing
+  // stored but the counts: the cut of mpm/RankPoints.hpp), then to make this rank's.
+  struct Fill {
+    typename Grid<dim>::Index first, last;
+    int ppc, material;
+    std::function<bool(const Vec<dim>&)> inside;
+  };
+  std::vector<Fill> fills;
+  std::vector<long long> per_key(rank_points_only ? m.grid.num_nodes() : 0, 0);
+  long long total_points = 0;
   for (std::size_t b = 0; b < nb; ++b) {
     const std::string k = fmt::format("bodies[{}]", b);
     const std::string mat = cf.string(k + ".material");
@@ -208,22 +221,54 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
                    fmt::format("{:.3g} points, {:.3g} grid nodes", planned_points, nodes));
     cf.require(planned_points < 2147483647.0, k + ".points_per_cell",
                fmt::format("at most 2^31 points in all; these bodies have {:.4g}", planned_points));
-    const int before = m.points.size();
-    const int added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
-                                              m.materials[mat_id]->density(), m.points);
     // Overlapping bodies would put two points' mass and stiffness in one place: refused.
-    for (int p = before; p < m.points.size(); ++p)
+    auto not_overlapping = [&](const Vec<dim>& x) {
       for (std::size_t e = 0; e < earlier_bodies.size(); ++e)
-        cf.require(!earlier_bodies[e](m.points.position[p]), k + (cf.has(k + ".polygon") ? ".polygon" : ".min"),
+        cf.require(!earlier_bodies[e](x), k + (cf.has(k + ".polygon") ? ".polygon" : ".min"),
                    fmt::format("a body that does not overlap bodies[{}] (its point at ({:.6g}) lies inside it: "
                                "mass and stiffness would count twice there)",
-                               e, fmt::join(m.points.position[p].data(), m.points.position[p].data() + dim, ", ")));
+                               e, fmt::join(x.data(), x.data() + dim, ", ")));
+    };
+    int added = 0;
+    if (rank_points_only) {
+      for_each_regular_point<dim>(m.grid, first, last, static_cast<int>(ppc), inside, [&](const Vec<dim>& x) {
+        not_overlapping(x);
+        ++added;
+        const auto cell = m.grid.cell_of(x);
+        ++per_key[cell ? m.grid.node_index(*cell) : 0];
+      });
+      fills.push_back({first, last, static_cast<int>(ppc), mat_id, inside});
+    } else {
+      const int before = m.points.size();
+      added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
+                                      m.materials[mat_id]->density(), m.points);
+      for (int p = before; p < m.points.size(); ++p) not_overlapping(m.points.position[p]);
+    }
+    total_points += added;
     if (cf.has(k + ".polygon"))
       earlier_bodies.push_back(inside);
     else
       earlier_bodies.push_back([box, h](const Vec<dim>& x) { return box.contains(x, -1e-9 * h.minCoeff()); });
     cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
                "a body holding at least one material point (it is smaller than a sub-cell)");
+  }
+  if (rank_points_only) {  // this rank's points (the cells of the cut), their ids in the order of every point
+    m.rank_cells = rank_cells_of_counts(per_key, ranks::size());
+    const int me = ranks::rank();
+    long long mine = 0;
+    for (int key = m.rank_cells[me]; key < m.rank_cells[me + 1]; ++key) mine += per_key[key];
+    m.points.reserve(static_cast<std::size_t>(mine));
+    m.point_ids.reserve(static_cast<std::size_t>(mine));
+    int id = 0;
+    for (const Fill& f : fills)
+      add_regular_points<dim>(m.grid, f.first, f.last, f.ppc, f.inside, f.material, m.materials[f.material]->density(),
+                              m.points, [&](const Vec<dim>& x) {
+                                const auto cell = m.grid.cell_of(x);
+                                const bool mine = owner_of(m.rank_cells, cell ? m.grid.node_index(*cell) : 0) == me;
+                                if (mine) m.point_ids.push_back(id);
+                                ++id;
+                                return mine;
+                              });
   }
 
   // --- F-bar
@@ -311,15 +356,18 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
                "a name without commas, quotes or newlines");
     if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
     b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / h.minCoeff();
-    for (int p = 0; p < m.points.size(); ++p) {
+    int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
+    for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
       bool inside = true;
       for (int d = 0; d < dim; ++d) {
         const double x = m.points.position[p][d], l = m.points.half_length[p][d];
         inside = inside && x + l > b.lo[d] + tol && x - l < b.hi[d] - tol;
       }
-      cf.require(!inside, k + ".min",
-                 fmt::format("a box that no material point's domain overlaps at the start (point {} does)", p));
+      if (inside) overlapped = m.id_of(p);
     }
+    overlapped = ranks::min(overlapped);  // (every rank's points)
+    cf.require(overlapped == std::numeric_limits<int>::max(), k + ".min",
+               fmt::format("a box that no material point's domain overlaps at the start (point {} does)", overlapped));
     m.rigid_boxes.push_back(b);
   }
 
@@ -328,12 +376,13 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
     const std::string k = fmt::format("point_loads[{}]", c);
     const Box<dim> sel = read_box<dim>(cf, k);
     const Vec<dim> f = vec<dim>(cf, k + ".force");
-    int selected = 0;
+    double selected = 0;
     for (int p = 0; p < m.points.size(); ++p)
       if (sel.contains(m.points.position[p], tol)) {
         m.points.force[p] += f;
         ++selected;
       }
+    ranks::sum(&selected, 1);  // (every rank's points)
     cf.require(selected > 0, k + ".min", "a box holding at least one material point");
   }
 
@@ -354,8 +403,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   if (cf.has("output.track")) {
     output.track = cf.integer_list("output.track");
     for (long long id : output.track)
-      cf.require(id >= 0 && id < m.points.size(), "output.track",
-                 fmt::format("point ids from 0 to {}", m.points.size() - 1));
+      cf.require(id >= 0 && id < total_points, "output.track", fmt::format("point ids from 0 to {}", total_points - 1));
   }
   output.check = read_string(cf, out.name, out.key("check"));
   output.plot = read_boolean(cf, out.name, out.key("plot"));
@@ -374,8 +422,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf) {
   return MpmCase<dim>{std::move(m), newton, gradient, output};
 }
 
-template MpmCase<1> read_mpm_case<1>(CaseFile&);
-template MpmCase<2> read_mpm_case<2>(CaseFile&);
-template MpmCase<3> read_mpm_case<3>(CaseFile&);
+template MpmCase<1> read_mpm_case<1>(CaseFile&, bool);
+template MpmCase<2> read_mpm_case<2>(CaseFile&, bool);
+template MpmCase<3> read_mpm_case<3>(CaseFile&, bool);
 
 }  // namespace gradmpm

@@ -124,7 +124,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const bool writes = ranks::rank() == 0;
   const fs::path shown = options.shown.empty() ? dir : options.shown;
   const std::string case_text = cf.canonical_text();
-  MpmCase<dim> c = read_mpm_case<dim>(cf);
+  // A distributed run's rank makes only its own points, unless it restarts (a checkpoint
+  // holds every point: each rank then keeps its own, own_rank_points below).
+  MpmCase<dim> c = read_mpm_case<dim>(cf, ranks::distributed() && options.restart.empty());
   Model<dim>& m = c.model;
   const MpmOutputSettings& output = c.output;
   StagedOutputs probe(dir);  // fails now, before solving, if the directory is unusable
@@ -242,10 +244,13 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     }
     for (const std::string& row : rows) tracked += row;
   };
+  double points_in_all = m.points.size();
+  if (!m.rank_cells.empty()) ranks::sum(&points_in_all, 1);  // each rank made its own
+
   if (!quiet)
     fmt::print(
         "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {})\n",
-        dim, m.points.size(), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
+        dim, static_cast<long long>(points_in_all), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
         ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"));

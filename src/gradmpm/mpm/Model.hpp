@@ -78,7 +78,8 @@ struct Model {
   /// of points_final.csv). Empty while `points` holds every point in id order (a serial run).
   std::vector<int> point_ids;
   /// A distributed run's cut of the grid: rank r owns the cells whose lower-corner node is
-  /// in [rank_cells[r], rank_cells[r + 1]) (mpm/RankPoints.hpp); fixed for the run.
+  /// in [rank_cells[r], rank_cells[r + 1]) (mpm/RankPoints.hpp); fixed for the run. Set
+  /// once the points are owned (empty: every rank holds every point).
   std::vector<int> rank_cells;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}

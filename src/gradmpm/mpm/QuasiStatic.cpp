@@ -259,7 +259,7 @@ void migrate_stages(const std::vector<PostStepStage<dim>*>& stages, const PointM
 
 template <int dim>
 void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
-  if (!ranks::distributed() || !model.point_ids.empty()) return;
+  if (!ranks::distributed() || !model.rank_cells.empty()) return;  // (owned: the reader made this rank's only)
   model.rank_cells = rank_cells(model.grid, model.points.original_position, ranks::size());
   const std::vector<int> rank = owners(model);
   std::vector<int> mine;

@@ -52,8 +52,9 @@ class PostStepStage {
 /// serial run each is a no-op. Collective calls, the stages' per-point arrays moved with
 /// the points.
 /// The cut of the grid made from the model's points (every rank holds every point, just
-/// read or restored), and each rank keeps the points in its cells. Nothing is done when
-/// the points are owned already.
+/// restored from a checkpoint, or a model built in code), and each rank keeps the points in
+/// its cells. Nothing is done when the points are owned already (Model::rank_cells set:
+/// read_mpm_case made this rank's points only).
 template <int dim>
 void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
 /// Points that are in another rank's cells go to it; returns how many this rank sent.

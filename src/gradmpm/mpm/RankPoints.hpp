@@ -31,18 +31,34 @@ std::vector<int> cell_corner_keys(const Grid<dim>& grid, const std::vector<Vec<d
   return key;
 }
 
-/// The cut (see the header) from every point's original position: rank r owns the cells
-/// whose key is in [first[r], first[r + 1]); ranks + 1 entries.
+/// The cut (see the header) from the number of points of each key (cell corner node):
+/// rank r owns the cells whose key is in [first[r], first[r + 1]); ranks + 1 entries. The
+/// same cut as partition_points' (an even cut by count, moved on past the rest of its key).
+inline std::vector<int> rank_cells_of_counts(const std::vector<long long>& per_key, int ranks) {
+  const int nk = static_cast<int>(per_key.size());
+  std::vector<long long> before(nk + 1, 0);  // points of keys < k
+  for (int k = 0; k < nk; ++k) before[k + 1] = before[k] + per_key[k];
+  const long long np = before[nk];
+  std::vector<int> first(ranks + 1, nk);
+  first[0] = 0;
+  long long previous = 0;
+  for (int r = 1; r < ranks; ++r) {
+    long long cut = std::max(previous, np * r / ranks);
+    // The key at position cut; a cut inside its key's points moves on past them.
+    int k = static_cast<int>(std::upper_bound(before.begin(), before.end(), cut) - before.begin()) - 1;
+    if (cut > 0 && cut < np && cut > before[k]) cut = before[k + 1];
+    previous = cut;
+    if (cut < np) first[r] = static_cast<int>(std::upper_bound(before.begin(), before.end(), cut) - before.begin()) - 1;
+  }
+  return first;
+}
+
+/// The cut from every point's original position (rank_cells_of_counts).
 template <int dim>
 std::vector<int> rank_cells(const Grid<dim>& grid, const std::vector<Vec<dim>>& original, int ranks) {
-  const int np = static_cast<int>(original.size());
-  const std::vector<int> reference = cell_corner_keys(grid, original);
-  const PointPartition cut = partition_points(reference, grid.num_nodes(), ranks);
-  std::vector<int> first(ranks + 1, grid.num_nodes());
-  first[0] = 0;
-  for (int r = 1; r < ranks; ++r)
-    if (cut.start[r] < np) first[r] = reference[cut.order[cut.start[r]]];
-  return first;
+  std::vector<long long> per_key(grid.num_nodes(), 0);
+  for (const int k : cell_corner_keys(grid, original)) ++per_key[k];
+  return rank_cells_of_counts(per_key, ranks);
 }
 
 /// The rank that owns the cell of key `key` under the cut `first` (rank_cells).

@@ -55,22 +55,19 @@ void add_gauss_points(const Grid<dim>& grid, const typename Grid<dim>::Index& fi
   }
 }
 
-/// Adds n^dim equally spaced points per cell (the usual MPM filling: cell split into n^dim
-/// sub-cells, one point at each centre) to every cell c with first <= c < last whose point
-/// satisfies `inside(x)`. Volume = sub-cell volume, domain = the sub-cell.
-template <int dim>
-int add_regular_points(const Grid<dim>& grid, const typename Grid<dim>::Index& first,
-                       const typename Grid<dim>::Index& last, int n, const std::function<bool(const Vec<dim>&)>& inside,
-                       int material, double density, MaterialPoints<dim>& points) {
+/// Calls f(x) for each of n^dim equally spaced points per cell (the usual MPM filling: cell
+/// split into n^dim sub-cells, one point at each centre) of every cell c with first <= c <
+/// last whose point satisfies `inside(x)`, in the order add_regular_points adds them.
+template <int dim, class F>
+void for_each_regular_point(const Grid<dim>& grid, const typename Grid<dim>::Index& first,
+                            const typename Grid<dim>::Index& last, int n,
+                            const std::function<bool(const Vec<dim>&)>& inside, F&& f) {
   const Vec<dim>& h = grid.cell_size();
   int per_cell = 1;
   for (int d = 0; d < dim; ++d) per_cell *= n;
-  const Vec<dim> lp = h / (2.0 * n);
-  const double v = (h / n).prod();
-  int added = 0;
   std::array<int, dim> c = first;
   for (int d = 0; d < dim; ++d)
-    if (first[d] >= last[d]) return 0;
+    if (first[d] >= last[d]) return;
   while (true) {
     for (int q = 0; q < per_cell; ++q) {
       Vec<dim> x;
@@ -79,9 +76,7 @@ int add_regular_points(const Grid<dim>& grid, const typename Grid<dim>::Index& f
         x[d] = grid.origin()[d] + (c[d] + (r % n + 0.5) / n) * h[d];
         r /= n;
       }
-      if (!inside(x)) continue;
-      points.add(x, v, material, lp, density * v);
-      ++added;
+      if (inside(x)) f(x);
     }
     int d = 0;
     while (d < dim && ++c[d] == last[d]) {
@@ -90,7 +85,24 @@ int add_regular_points(const Grid<dim>& grid, const typename Grid<dim>::Index& f
     }
     if (d == dim) break;
   }
-  return added;
+}
+
+/// Adds the points of for_each_regular_point that `keep(x)` accepts (every one by
+/// default). Volume = sub-cell volume, domain = the sub-cell. Returns the points visited
+/// (kept or not).
+template <int dim>
+int add_regular_points(const Grid<dim>& grid, const typename Grid<dim>::Index& first,
+                       const typename Grid<dim>::Index& last, int n, const std::function<bool(const Vec<dim>&)>& inside,
+                       int material, double density, MaterialPoints<dim>& points,
+                       const std::function<bool(const Vec<dim>&)>& keep = {}) {
+  const Vec<dim> lp = grid.cell_size() / (2.0 * n);
+  const double v = (grid.cell_size() / n).prod();
+  int visited = 0;
+  for_each_regular_point<dim>(grid, first, last, n, inside, [&](const Vec<dim>& x) {
+    ++visited;
+    if (!keep || keep(x)) points.add(x, v, material, lp, density * v);
+  });
+  return visited;
 }
 
 }  // namespace gradmpm

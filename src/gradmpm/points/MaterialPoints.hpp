@@ -61,6 +61,10 @@ struct MaterialPoints {
       std::copy(state_of(ids[k]), state_of(ids[k]) + state_stride, out.state_of(static_cast<int>(k)));
     return out;
   }
+  /// Room for n points in every array (no slack from growing one point at a time).
+  void reserve(std::size_t n) {
+    visit_arrays([&](const char*, auto& a) { a.reserve(n); }, *this);
+  }
   double* state_of(int p) { return state.data() + static_cast<std::size_t>(p) * state_stride; }
   const double* state_of(int p) const { return state.data() + static_cast<std::size_t>(p) * state_stride; }
 
