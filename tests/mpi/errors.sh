@@ -3,7 +3,8 @@
 # the serial exit code, never a hang: a solver that cannot run distributed (exit 2, the
 # key named), an output folder rank 0 cannot create (exit 2), a Newton failure (exit 1),
 # points leaving the grid, seen by a load step or by the gradient step (exit 1, their ids
-# named once).
+# named once), a case too large for the machine's memory (exit 2: every rank decides from
+# the same available memory, the ranks of the machine counted together).
 #
 #   errors.sh GRADMPM MPIEXEC CASE WORKDIR
 set -uo pipefail
@@ -43,4 +44,6 @@ expect 1 "load step 2 (load factor 0.5): 32 material point(s) outside the grid (
 timeout 120 "$mpiexec" --allow-run-as-root --oversubscribe -n 2 "$gradmpm" run "${column[@]}" -q -j1 \
   --out "$work/e" >"$work/e.log" 2>&1
 expect 1 "solver failure: gradient step: 32 material point(s) outside the grid (ids): 0, 1, 2" "$work/e.log" $?
+GRADMPM_MAX_MEMORY=0.001 run --out "$work/f" --set linear_solver.type=petsc >"$work/f.log" 2>&1
+expect 2 "a case that fits in memory: it needs at least .* 2 of the 2 ranks on this machine" "$work/f.log" $?
 exit $failed

@@ -21,10 +21,12 @@ std::uint64_t memory_available();
 /// estimate counts ("1.2e9 points, 3.4e9 dofs").
 void require_memory(const CaseFile& cf, const std::string& key, double bytes, const std::string& what);
 
-/// Lower bound of an MPM run's peak memory: points, grid nodes (dof map, grid outputs) and
-/// the tangent's entries of the `cells` the bodies cover (GIMP couples 5 nodes per
-/// direction), no fill-in.
-double mpm_memory_estimate(int dim, double points, double cells, double nodes, bool grid_output);
+/// Lower bound of an MPM run's peak memory on this machine: points, grid nodes (dof map,
+/// grid outputs) and the tangent's entries of the `cells` the bodies cover (GIMP couples 5
+/// nodes per direction), no fill-in. A distributed run's `on_this_machine` ranks share the
+/// machine, each with `share` of the points and the tangent (1 / ranks) and every grid node.
+double mpm_memory_estimate(int dim, double points, double cells, double nodes, bool grid_output, double share = 1.0,
+                           int on_this_machine = 1);
 
 /// Lower bound of the 1D bar's peak memory (measured: 2.6 KB per element at 4 points per
 /// element, 1.25 KB at 2; as MPM 2.9 KB at 2).

@@ -129,8 +129,14 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
              fmt::format("a grid of at most {:.4g} nodes ({} dofs per node, numbered in 32 bits); this one has {:.4g}",
                          std::floor(2147483647.0 / dim), dim, nodes));
   const bool grid_output = read_integer(cf, "output", mpm_section("output").key("vtk_every")) > 0;
-  require_memory(cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output),
-                 fmt::format("{:.3g} grid nodes{}", nodes, grid_output ? " written to grid VTU files" : ""));
+  // A distributed run's ranks on one machine: each its share of the points and the tangent.
+  const double share = 1.0 / ranks::size();
+  const int on_this_machine = ranks::on_this_machine();
+  const std::string machine_ranks =
+      ranks::distributed() ? fmt::format(", {} of the {} ranks on this machine", on_this_machine, ranks::size()) : "";
+  require_memory(cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output, share, on_this_machine),
+                 fmt::format("{:.3g} grid nodes{}{}", nodes, grid_output ? " written to grid VTU files" : "",
+                             machine_ranks));
   Model<dim> m(Grid<dim>(origin, h, n));
   Vec<dim> grid_hi;
   for (int d = 0; d < dim; ++d) grid_hi[d] = origin[d] + n[d] * h[d];
@@ -217,8 +223,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     planned_cells += body_cells;
     planned_points += body_cells * std::pow(static_cast<double>(ppc), dim);
     require_memory(cf, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
-                   mpm_memory_estimate(dim, planned_points, planned_cells, nodes, grid_output),
-                   fmt::format("{:.3g} points, {:.3g} grid nodes", planned_points, nodes));
+                   mpm_memory_estimate(dim, planned_points, planned_cells, nodes, grid_output, share, on_this_machine),
+                   fmt::format("{:.3g} points, {:.3g} grid nodes{}", planned_points, nodes, machine_ranks));
     cf.require(planned_points < 2147483647.0, k + ".points_per_cell",
                fmt::format("at most 2^31 points in all; these bodies have {:.4g}", planned_points));
     // Overlapping bodies would put two points' mass and stiffness in one place: refused.

@@ -16,7 +16,7 @@ namespace gradmpm::ranks {
 namespace {
 struct State {
   bool started = false;
-  int size = 1, rank = 0;
+  int size = 1, rank = 0, on_this_machine = 1;
   std::vector<std::function<void()>> hooks;
 };
 State& state() {
@@ -27,6 +27,7 @@ State& state() {
 
 int size() { return state().size; }
 int rank() { return state().rank; }
+int on_this_machine() { return state().on_this_machine; }
 void before_stop(std::function<void()> hook) {
   if (state().started) state().hooks.push_back(std::move(hook));
 }
@@ -41,6 +42,10 @@ Session::Session(int* argc, char*** argv) {
   s.started = true;
   MPI_Comm_size(MPI_COMM_WORLD, &s.size);
   MPI_Comm_rank(MPI_COMM_WORLD, &s.rank);
+  MPI_Comm machine;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, s.rank, MPI_INFO_NULL, &machine);
+  MPI_Comm_size(machine, &s.on_this_machine);
+  MPI_Comm_free(&machine);
 }
 
 Session::~Session() {

@@ -23,6 +23,8 @@ int size();
 /// This process's rank (0 when none is started).
 int rank();
 inline bool distributed() { return size() > 1; }
+/// Ranks of the session on this process's machine (MPI_COMM_TYPE_SHARED; 1 when none is started).
+int on_this_machine();
 
 /// MPI started for the life of main when this process was launched as one of several
 /// ranks (app/MpiLaunch.hpp); stopped, after the hooks of before_stop(), by the destructor.
