@@ -15,7 +15,13 @@
 //     another program version, a file that is not a gradmpm checkpoint, a missing one,
 //     and --restart on a bar case are refused with exit 2 and a message saying which;
 //  R6 only the last checkpoint_keep checkpoints stay, and a temporary left by a run
-//     killed while writing one is removed by the next run.
+//     killed while writing one is removed by the next run;
+//  R7 a restart on any number of ranks takes the points of a distributed run's point
+//     files (each rank's, in its order) that lie in its cells: PointRows gathers the rows
+//     kept from each file, of every per-point array (reals, integers, a stage's, several
+//     values per point) and only those, in increasing id; a point in two files or an
+//     array that does not hold the same number of values per point is refused.
+//     (Restarts on other numbers of ranks: Mpi.CheckpointOfEachRanksPointsRestartsOnAnyNumberOfRanks.)
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -27,6 +33,7 @@
 #include <thread>
 
 #include "CliTestUtil.hpp"
+#include "gradmpm/app/Checkpoint.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/io/Hdf5Archive.hpp"
 
@@ -90,6 +97,73 @@ TEST_F(Hdf5ArchiveTest, ReadsBackWhatWasWrittenBitForBit) {
     EXPECT_NE(std::string(e.what()).find("'group/reals' holds 6 values, expected 7"), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)b.reals("nothing"), InputError);
+}
+
+namespace {
+/// A point file of the points `ids` (in that order): per point a real pair (10 id, 10 id
+/// + 1), an integer (-id) and a stage's real (id / 2), and arrays that are not per point.
+Archive point_file(const std::vector<long long>& ids) {
+  Archive a;
+  std::vector<double> pair, half;
+  std::vector<long long> minus;
+  for (const long long id : ids) {
+    pair.insert(pair.end(), {10.0 * id, 10.0 * id + 1.0});
+    minus.push_back(-id);
+    half.push_back(0.5 * id);
+  }
+  a.put_integer("points/count", static_cast<long long>(ids.size()));
+  a.put("points/id", ids);
+  a.put("points/position", pair);
+  a.put("points/material", minus);
+  a.put("stage/field", half);
+  a.put("driver/load_factor", std::vector<double>{0.25, 0.5, 0.75});  // not a per-point array
+  return a;
+}
+}  // namespace
+
+TEST(PointRows, GathersTheKeptPointsOfEveryFileInIdOrder) {
+  PointRows rows({"points/", "stage/"});
+  rows.add(point_file({1, 4, 6}), {1, 0, 1});
+  rows.add(point_file({0, 2, 3, 7}), {0, 1, 1, 1});
+  rows.add(point_file({}), {});  // a rank that owned no point
+  rows.add(point_file({5, 8}), {0, 0});
+  EXPECT_EQ(rows.count(), 5);
+  const Archive a = rows.take("test");
+  const std::vector<long long> ids = {1, 2, 3, 6, 7};
+  EXPECT_EQ(a.integer("points/count"), 5);
+  EXPECT_EQ(a.integers("points/id"), ids);
+  std::vector<double> pair, half;
+  std::vector<long long> minus;
+  for (const long long id : ids) {
+    pair.insert(pair.end(), {10.0 * id, 10.0 * id + 1.0});
+    minus.push_back(-id);
+    half.push_back(0.5 * id);
+  }
+  EXPECT_EQ(a.reals("points/position"), pair);
+  EXPECT_EQ(a.integers("points/material"), minus);
+  EXPECT_EQ(a.reals("stage/field"), half);
+  EXPECT_FALSE(a.has("driver/load_factor"));
+}
+
+TEST(PointRows, APointInTwoFilesOrAnUnevenArrayIsRefused) {
+  PointRows twice({"points/"});
+  twice.add(point_file({0, 1}), {1, 1});
+  twice.add(point_file({1, 2}), {1, 1});
+  try {
+    (void)twice.take("ck");
+    ADD_FAILURE() << "a point kept twice was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ck: point 1 is there twice"), std::string::npos) << e.what();
+  }
+  Archive uneven = point_file({0, 1});
+  uneven.put("points/volume", std::vector<double>{1.0, 2.0, 3.0});
+  PointRows rows({"points/"});
+  try {
+    rows.add(uneven, {1, 1});
+    ADD_FAILURE() << "3 values for 2 points were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'points/volume' holds 3 values"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(Hdf5ArchiveTest, ADamagedOrTruncatedFileIsRefused) {

@@ -9,9 +9,13 @@
 #include <set>
 #include <sstream>
 
+#include <numeric>
+
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/io/AtomicFiles.hpp"
 #include "gradmpm/io/Hdf5Archive.hpp"
+#include "gradmpm/mpm/RankPoints.hpp"
 
 namespace gradmpm {
 
@@ -20,9 +24,29 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "gradmpm checkpoint";
-constexpr long long kFormatVersion = 1;
+constexpr long long kFormatVersion = 2;  // 2: the points' layout and ids; a distributed run's point files
 constexpr const char* kFile = "checkpoint.h5";
 const std::string kProgram = std::string("gradmpm ") + GRADMPM_VERSION;
+
+/// A distributed run's point file of rank r.
+std::string point_file(long long r) { return fmt::format("points_{:04d}.h5", r); }
+
+/// Every rank stops with the first problem (in rank order) when any rank has one: in a
+/// distributed run as a UserError with that one message on every rank (rank 0 prints it,
+/// every rank exits with code 2: no rank waits for another that stopped); serially as E.
+template <class E>
+void stop_if_any(const std::string& problem) {
+  if (!ranks::distributed()) {
+    if (!problem.empty()) throw E(problem);
+    return;
+  }
+  if (ranks::min(problem.empty() ? 1 : 0) == 1) return;
+  std::string first;
+  for (const std::string& p : ranks::gather_on_root(problem))
+    if (first.empty() && !p.empty()) first = p;
+  const std::vector<char> told = ranks::broadcast(std::vector<char>(first.begin(), first.end()));
+  throw UserError(std::string(told.begin(), told.end()));
+}
 
 /// Step numbers of the complete checkpoint folders in `folder`.
 std::vector<std::pair<int, fs::path>> checkpoints_in(const fs::path& folder) {
@@ -101,41 +125,70 @@ void link_files(const fs::path& from, const fs::path& to) {
 CheckpointFolder::CheckpointFolder(fs::path folder, std::string shown, int every, int keep)
     : folder_(std::move(folder)), shown_(std::move(shown)), every_(every), keep_(keep) {
   if (every_ <= 0) return;
-  std::error_code ec;
-  fs::create_directories(folder_, ec);
-  if (ec) throw OutputError(fmt::format("{}: cannot create the checkpoint folder ({})", shown_, ec.message()));
-  // A temporary is a checkpoint a killed run did not finish: nobody else writes here, as
-  // the run holds the lock on its output folder.
-  for (const auto& e : fs::directory_iterator(folder_, ec))
-    if (e.path().filename().string().starts_with(".step_")) fs::remove_all(e.path(), ec);
+  std::string problem;
+  if (ranks::rank() == 0) {  // (a distributed run: the folder is rank 0's, on a file system the ranks share)
+    std::error_code ec;
+    fs::create_directories(folder_, ec);
+    if (ec) problem = fmt::format("{}: cannot create the checkpoint folder ({})", shown_, ec.message());
+    // A temporary is a checkpoint a killed run did not finish: nobody else writes here, as
+    // the run holds the lock on its output folder.
+    for (const auto& e : fs::directory_iterator(folder_, ec))
+      if (e.path().filename().string().starts_with(".step_")) fs::remove_all(e.path(), ec);
+  }
+  stop_if_any<OutputError>(problem);
+  const std::string pid = std::to_string(::getpid());  // rank 0's names the temporaries
+  const std::vector<char> told = ranks::broadcast(std::vector<char>(pid.begin(), pid.end()));
+  tag_.assign(told.begin(), told.end());
 }
 
-std::string CheckpointFolder::write(int step, const Archive& a, const fs::path& outputs) const {
+std::string CheckpointFolder::write(int step, const Archive& a, const Archive& points, const fs::path& outputs) const {
+  const bool root = ranks::rank() == 0;
   const std::string name = fmt::format("step_{:06d}", step);
-  const fs::path final_path = folder_ / name, tmp = folder_ / fmt::format(".{}.tmp-{}", name, ::getpid());
+  const fs::path final_path = folder_ / name, tmp = folder_ / fmt::format(".{}.tmp-{}", name, tag_);
   const std::string shown = shown_ + "/" + name;
-  std::error_code ec;
-  fs::remove_all(tmp, ec);
-  fs::create_directories(tmp / "outputs", ec);
-  if (ec) throw OutputError(fmt::format("{}: cannot create ({})", shown, ec.message()));
-  write_hdf5_archive(tmp / kFile, a);
-  link_files(outputs, tmp / "outputs");
-  fsync_path(tmp / kFile, shown);
-  fsync_path(tmp / "outputs", shown);
-  fsync_path(tmp, shown);
-  // Into place in one rename; an older checkpoint of the same step (an earlier run that
-  // went further) is swapped out, so a complete one is there at every moment.
-  move_into_place(tmp, final_path, folder_ / fmt::format(".{}.old-{}", name, ::getpid()), shown + ": cannot publish");
-  fsync_path(folder_, shown_);
-  // Keep the last keep_ up to this step; later ones are an earlier run's, which this run rewrites.
-  auto all = checkpoints_in(folder_);
-  std::vector<fs::path> older;
-  for (const auto& [s, p] : all) {
-    if (s > step) fs::remove_all(p, ec);
-    if (s < step) older.push_back(p);
+  std::string problem;
+  if (root) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    fs::create_directories(tmp / "outputs", ec);
+    if (ec) problem = fmt::format("{}: cannot create ({})", shown, ec.message());
   }
-  if (keep_ > 0)
-    for (std::size_t i = 0; i + keep_ - 1 < older.size(); ++i) fs::remove_all(older[i], ec);
+  stop_if_any<OutputError>(problem);
+  if (ranks::distributed()) {  // each rank its points, flushed before rank 0 publishes the folder
+    const std::string file = point_file(ranks::rank());
+    try {
+      write_hdf5_archive(tmp / file, points);
+      fsync_path(tmp / file, shown);
+    } catch (const UserError& e) {
+      problem = fmt::format("rank {}: {}", ranks::rank(), e.what());
+    }
+    stop_if_any<OutputError>(problem);
+  }
+  if (root) try {
+      write_hdf5_archive(tmp / kFile, a);
+      link_files(outputs, tmp / "outputs");
+      fsync_path(tmp / kFile, shown);
+      fsync_path(tmp / "outputs", shown);
+      fsync_path(tmp, shown);
+      // Into place in one rename; an older checkpoint of the same step (an earlier run that
+      // went further) is swapped out, so a complete one is there at every moment.
+      move_into_place(tmp, final_path, folder_ / fmt::format(".{}.old-{}", name, tag_),
+                      shown + ": cannot publish");
+      fsync_path(folder_, shown_);
+      // Keep the last keep_ up to this step; later ones are an earlier run's, which this run rewrites.
+      auto all = checkpoints_in(folder_);
+      std::vector<fs::path> older;
+      std::error_code ec;
+      for (const auto& [s, p] : all) {
+        if (s > step) fs::remove_all(p, ec);
+        if (s < step) older.push_back(p);
+      }
+      if (keep_ > 0)
+        for (std::size_t i = 0; i + keep_ - 1 < older.size(); ++i) fs::remove_all(older[i], ec);
+    } catch (const UserError& e) {
+      problem = e.what();
+    }
+  stop_if_any<OutputError>(problem);  // no rank goes on past a checkpoint that is not there
   return shown;
 }
 
@@ -153,7 +206,7 @@ Restart read_checkpoint(const fs::path& path, const std::string& case_text, int 
   if (!fs::exists(file))
     throw InputError(fmt::format("--restart {}: no such checkpoint (expected a step_NNNNNN folder or its {})",
                                  path.string(), kFile));
-  Restart r{read_hdf5_archive(file), file.parent_path() / "outputs"};
+  Restart r{read_hdf5_archive(file), file.parent_path(), file.parent_path() / "outputs"};
   const Archive& a = r.archive;
   const std::string where = "--restart " + path.string();
   if (!a.has("format") || a.text("format") != kFormat)
@@ -175,33 +228,172 @@ Restart read_checkpoint(const fs::path& path, const std::string& case_text, int 
   return r;
 }
 
+bool PointRows::per_point(const std::string& name) const {
+  if (name == "points/count") return false;
+  return std::any_of(prefixes_.begin(), prefixes_.end(), [&](const std::string& p) { return name.starts_with(p); });
+}
+
+void PointRows::add(const Archive& file, const std::vector<char>& keep) {
+  const long long n = file.integer("points/count");
+  if (static_cast<long long>(keep.size()) != n) throw std::logic_error("PointRows::add: one keep flag per point");
+  const std::vector<long long>& ids = file.integers("points/id", n);
+  auto append = [&](const std::string& name, const auto& from, auto& to) {
+    if (n == 0) return;  // (the name is known: a rank may keep no point of any file)
+    if (from.size() % static_cast<std::size_t>(n) != 0)
+      throw InputError(fmt::format("{}: '{}' holds {} values, not the same number for each of its {} points",
+                                   file.source(), name, from.size(), n));
+    const std::size_t w = from.size() / static_cast<std::size_t>(n);
+    for (long long k = 0; k < n; ++k)
+      if (keep[k]) to.insert(to.end(), from.begin() + k * w, from.begin() + (k + 1) * w);
+  };
+  for (const auto& [name, v] : file.all_reals())
+    if (per_point(name)) append(name, v, reals_[name]);
+  for (const auto& [name, v] : file.all_integers())
+    if (per_point(name) && name != "points/id") append(name, v, integers_[name]);
+  for (long long k = 0; k < n; ++k)
+    if (keep[k]) ids_.push_back(ids[k]);
+}
+
+Archive PointRows::take(const std::string& source) const {
+  const std::size_t n = ids_.size();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return ids_[i] < ids_[j]; });
+  Archive a(source);
+  a.put_integer("points/count", static_cast<long long>(n));
+  std::vector<long long> ids(n);
+  for (std::size_t i = 0; i < n; ++i) ids[i] = ids_[order[i]];
+  for (std::size_t i = 1; i < n; ++i)
+    if (ids[i] == ids[i - 1]) throw InputError(fmt::format("{}: point {} is there twice (damaged)", source, ids[i]));
+  a.put("points/id", std::move(ids));
+  auto permuted = [&](const auto& v) {
+    std::remove_cvref_t<decltype(v)> out(v.size());
+    const std::size_t w = n ? v.size() / n : 0;
+    for (std::size_t i = 0; i < n; ++i) std::copy_n(v.begin() + order[i] * w, w, out.begin() + i * w);
+    return out;
+  };
+  for (const auto& [name, v] : reals_) a.put(name, permuted(v));
+  for (const auto& [name, v] : integers_) a.put(name, permuted(v));
+  return a;
+}
+
+namespace {
+
+/// The model's points (this rank's), every per-point array, under points/ and the stages' names.
 template <int dim>
-void save_run_state(Archive& a, const Model<dim>& m, const DriverState& driver,
+void save_points(Archive& a, const Model<dim>& m, const std::vector<PostStepStage<dim>*>& stages) {
+  const MaterialPoints<dim>& p = m.points;
+  a.put_integer("points/count", p.size());
+  std::vector<long long> ids(m.point_ids.begin(), m.point_ids.end());
+  if (m.point_ids.empty()) {  // a serial run: every point, in id order
+    ids.resize(p.size());
+    std::iota(ids.begin(), ids.end(), 0LL);
+  }
+  a.put("points/id", std::move(ids));
+  p.for_each_array([&](const char* name, const auto& v) { put_array(a, std::string("points/") + name, v); });
+  a.put("points/state", p.state);
+  for (const PostStepStage<dim>* s : stages) s->save(a);
+}
+
+}  // namespace
+
+template <int dim>
+void save_run_state(Archive& a, Archive& points, const Model<dim>& m, const DriverState& driver,
                     const std::vector<PostStepStage<dim>*>& stages) {
   a.put_real("driver/load_factor", driver.load_factor);
   a.put_real("driver/next_increment", driver.next_increment);
   a.put("driver/summary",
         std::vector<long long>{driver.summary.steps, driver.summary.total_iterations, driver.summary.cuts});
-  const MaterialPoints<dim>& p = m.points;
-  a.put_integer("points/count", p.size());
-  p.for_each_array([&](const char* name, const auto& v) { put_array(a, std::string("points/") + name, v); });
-  a.put_integer("points/state_stride", p.state_stride);
-  a.put("points/state", p.state);
-  for (const PostStepStage<dim>* s : stages) s->save(a);
+  double total = m.points.size();
+  ranks::sum(&total, 1);  // (serially the identity)
+  a.put_integer("layout/points", static_cast<long long>(total));
+  a.put_integer("layout/state_stride", m.points.state_stride);
+  if (!ranks::distributed()) {
+    a.put_integer("layout/files", 0);  // the points are in this file
+    save_points(a, m, stages);
+    return;
+  }
+  a.put_integer("layout/files", ranks::size());
+  a.put("layout/rank_cells", std::vector<long long>(m.rank_cells.begin(), m.rank_cells.end()));
+  save_points(points, m, stages);
 }
 
 template <int dim>
-DriverState restore_run_state(const Archive& a, Model<dim>& m, const std::vector<PostStepStage<dim>*>& stages) {
+DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector<PostStepStage<dim>*>& stages) {
+  const Archive& a = r.archive;
   MaterialPoints<dim>& p = m.points;
-  const long long n = a.integer("points/count");
-  if (n != p.size()) throw InputError(fmt::format("{}: {} points; this case makes {}", a.source(), n, p.size()));
-  if (a.integer("points/state_stride") != m.state_stride())
+  const bool split = ranks::distributed();  // each rank keeps the points in its cells
+  if (split && m.rank_cells.empty())
+    throw std::logic_error("a distributed restart needs the ranks' cells (read_mpm_case with rank_points_only)");
+  double made = p.size();
+  ranks::sum(&made, 1);
+  const long long total = a.integer("layout/points");
+  if (total != static_cast<long long>(made))
+    throw InputError(fmt::format("{}: {} points; this case makes {}", a.source(), total, made));
+  if (a.integer("layout/state_stride") != m.state_stride())
     throw InputError(fmt::format("{}: {} state values per point; this case's materials have {}", a.source(),
-                                 a.integer("points/state_stride"), m.state_stride()));
-  p.for_each_array([&](const char* name, auto& v) { get_array(a, std::string("points/") + name, n, v); });
+                                 a.integer("layout/state_stride"), m.state_stride()));
+  std::vector<std::string> prefixes{"points/"};
+  for (const PostStepStage<dim>* s : stages) prefixes.push_back(s->name() + "/");
+  PointRows rows(prefixes);
+  std::string problem;
+  try {
+    // The points of a file this rank keeps: those in its cells (all of them serially).
+    auto keep_of = [&](const Archive& file) {
+      const long long n = file.integer("points/count");
+      std::vector<Vec<dim>> x;
+      file.get_objects("points/position", n, x);
+      std::vector<char> keep(n, 1);
+      if (split) {
+        const std::vector<int> key = cell_corner_keys(m.grid, x);
+        for (long long k = 0; k < n; ++k) keep[k] = owner_of(m.rank_cells, key[k]) == ranks::rank();
+      }
+      return keep;
+    };
+    const long long files = a.integer("layout/files");
+    if (files == 0) {
+      rows.add(a, keep_of(a));
+    } else {
+      // Written by as many ranks with the same cells (the same case): this rank's points
+      // are all in its own file, and it reads that one only.
+      const std::vector<long long>& cut = a.integers("layout/rank_cells", files + 1);
+      const bool same = split && files == ranks::size() && std::equal(cut.begin(), cut.end(), m.rank_cells.begin());
+      for (long long f = 0; f < files; ++f) {
+        if (same && f != ranks::rank()) continue;
+        const fs::path file = r.folder / point_file(f);
+        if (!fs::exists(file))
+          throw InputError(fmt::format("{}: {} is missing (the checkpoint has {} point files)", r.folder.string(),
+                                       point_file(f), files));
+        const Archive piece = read_hdf5_archive(file);
+        rows.add(piece, keep_of(piece));
+      }
+    }
+  } catch (const UserError& e) {
+    problem = e.what();
+  }
+  stop_if_any<InputError>(problem);  // a file only some ranks read stops them all
+  double kept = static_cast<double>(rows.count());
+  ranks::sum(&kept, 1);
+  if (static_cast<long long>(kept) != total)
+    throw InputError(fmt::format("{}: its point files hold {} of its {} points (damaged)", r.folder.string(), kept,
+                                 total));
+  Archive mine;
+  try {
+    mine = rows.take(a.source());
+  } catch (const UserError& e) {
+    problem = e.what();
+  }
+  stop_if_any<InputError>(problem);
+  const long long n = mine.integer("points/count");
+  p.for_each_array([&](const char* name, auto& v) { get_array(mine, std::string("points/") + name, n, v); });
   p.state_stride = m.state_stride();
-  p.state = a.reals("points/state", n * p.state_stride);
-  for (PostStepStage<dim>* s : stages) s->restore(a);
+  p.state = mine.reals("points/state", n * p.state_stride);
+  const std::vector<long long>& ids = mine.integers("points/id", n);
+  if (split)
+    m.point_ids.assign(ids.begin(), ids.end());
+  else
+    m.point_ids.clear();
+  for (PostStepStage<dim>* s : stages) s->restore(mine);
   DriverState d;
   d.load_factor = a.real("driver/load_factor");
   d.next_increment = a.real("driver/next_increment");
@@ -211,9 +403,9 @@ DriverState restore_run_state(const Archive& a, Model<dim>& m, const std::vector
 }
 
 #define GRADMPM_CHECKPOINT(dim)                                                      \
-  template void save_run_state<dim>(Archive&, const Model<dim>&, const DriverState&, \
-                                    const std::vector<PostStepStage<dim>*>&);        \
-  template DriverState restore_run_state<dim>(const Archive&, Model<dim>&, const std::vector<PostStepStage<dim>*>&);
+  template void save_run_state<dim>(Archive&, Archive&, const Model<dim>&, const DriverState&, \
+                                    const std::vector<PostStepStage<dim>*>&);                  \
+  template DriverState restore_run_state<dim>(const Restart&, Model<dim>&, const std::vector<PostStepStage<dim>*>&);
 GRADMPM_CHECKPOINT(1)
 GRADMPM_CHECKPOINT(2)
 GRADMPM_CHECKPOINT(3)

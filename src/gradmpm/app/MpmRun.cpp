@@ -124,9 +124,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const bool writes = ranks::rank() == 0;
   const fs::path shown = options.shown.empty() ? dir : options.shown;
   const std::string case_text = cf.canonical_text();
-  // A distributed run's rank makes only its own points, unless it restarts (a checkpoint
-  // holds every point: each rank then keeps its own, own_rank_points below).
-  MpmCase<dim> c = read_mpm_case<dim>(cf, ranks::distributed() && options.restart.empty());
+  // A distributed run's rank makes only its own points (a restart replaces them by the
+  // checkpoint's points in its cells).
+  MpmCase<dim> c = read_mpm_case<dim>(cf, ranks::distributed());
   Model<dim>& m = c.model;
   const MpmOutputSettings& output = c.output;
   StagedOutputs probe(dir);  // fails now, before solving, if the directory is unusable
@@ -267,7 +267,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   DriverState start;
   if (restart) {
     const Archive& a = restart->archive;
-    start = restore_run_state<dim>(a, m, stages);
+    start = restore_run_state<dim>(*restart, m, stages);
     history = a.text("outputs/newton_history");
     tracked = a.text("outputs/tracked_points");
     reactions = a.text("outputs/reactions");
@@ -313,19 +313,15 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
             if (!quiet) print_step<dim>(info);
           }
           if (checkpoints.due(info)) {
-            // A distributed run's checkpoint is written by rank 0 with every point (in id
-            // order, as a serial run's); then the points go back to their owners.
-            collect_on_root(m, stages);
-            if (writes) {
-              Archive a;
-              put_checkpoint_header(a, case_text, dim, info.step);
-              save_run_state<dim>(a, m, info.after, stages);
-              save_outputs(a);
-              const auto t_write = Clock::now();
-              const std::string where = checkpoints.write(info.step, a, dir);
-              if (!quiet) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
-            }
-            migrate_to_owners(m, stages);
+            // A distributed run's ranks write their points each (no rank holds every
+            // point), rank 0 the rest; every rank goes on once the checkpoint is in place.
+            Archive a, points;
+            put_checkpoint_header(a, case_text, dim, info.step);
+            save_run_state<dim>(a, points, m, info.after, stages);
+            save_outputs(a);
+            const auto t_write = Clock::now();
+            const std::string where = checkpoints.write(info.step, a, points, dir);
+            if (!quiet) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
           }
         },
         start);

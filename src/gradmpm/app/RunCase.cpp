@@ -47,8 +47,9 @@ void run_bar(CaseFile& cf, const std::filesystem::path& out_dir, bool quiet) {
                r.timings.assembly_s, r.timings.classical_solve_s, r.timings.gradient_s, r.timings.recovery_s);
 }
 /// A distributed run (core/Ranks.hpp): every rank solves, rank 0 alone prints and writes
-/// the output folder but for the other ranks' pieces of the points' VTU files (the others
-/// write nothing else; they are given a scratch folder of their own, removed at the end).
+/// the output folder but for the other ranks' pieces of the points' VTU files and their
+/// points' files of a checkpoint (the others write nothing else; they are given a scratch
+/// folder of their own, removed at the end).
 /// Whether rank 0 could open the folder is told to every rank before any solving.
 void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunOptions& options) {
   namespace fs = std::filesystem;
@@ -65,6 +66,9 @@ void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunO
   // file system the ranks share, as on a cluster).
   const std::string staging = folder ? folder->staging().string() : std::string();
   const std::vector<char> shared = ranks::broadcast(std::vector<char>(staging.begin(), staging.end()));
+  // And its checkpoint folder, where every rank writes its points' file of a checkpoint.
+  const std::string beside = folder ? checkpoint_folder_of(folder->dir()).string() : std::string();
+  const std::vector<char> checkpoints = ranks::broadcast(std::vector<char>(beside.begin(), beside.end()));
   fs::path scratch;
   if (!folder) {
     scratch = fs::temp_directory_path() / fmt::format("gradmpm-rank{}-{}", ranks::rank(), ::getpid());
@@ -80,7 +84,7 @@ void run_on_ranks(CaseFile& cf, const std::filesystem::path& out_dir, const RunO
   const fs::path dir = folder ? folder->staging() : scratch;
   const MpmRunOptions run{.quiet = options.quiet || !folder,
                           .shown = out_dir,
-                          .checkpoints = folder ? checkpoint_folder_of(folder->dir()) : scratch / "checkpoints",
+                          .checkpoints = std::string(checkpoints.begin(), checkpoints.end()),
                           .restart = options.restart,
                           .pieces = std::string(shared.begin(), shared.end())};
   try {

@@ -340,7 +340,7 @@ void GradientTracker<dim>::save(Archive& a, const std::string& prefix) const {
 
 template <int dim>
 void GradientTracker<dim>::restore(const Archive& a, const std::string& prefix) {
-  const long long n = static_cast<long long>(prev_position_.size());
+  const long long n = a.integer("points/count");  // (a distributed restart: this rank's points now)
   a.get_objects(prefix + "displacement", n, fields_.displacement);
   a.get_objects(prefix + "strain", n, fields_.strain);
   a.get_objects(prefix + "stress", n, fields_.stress);
@@ -359,9 +359,10 @@ void GradientTracker<dim>::migrate(const PointMigration& migration) {
 template <int dim>
 void GradientStep<dim>::migrate(const PointMigration& migration) {
   if (tracker_) tracker_->migrate(migration);
-  if (latest_)  // (recomputed after the step that migrates: moved only to stay the points')
+  if (latest_) {  // (recomputed after the step that migrates: moved only to stay the points')
     for (auto* a : {&latest_->strain, &latest_->stress}) migration.apply(*a);
-  if (latest_) migration.apply(latest_->displacement);
+    migration.apply(latest_->displacement);
+  }
 }
 
 template <int dim>

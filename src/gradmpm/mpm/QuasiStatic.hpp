@@ -40,7 +40,10 @@ class PostStepStage {
   /// After the points hold the converged state of step `info.step`.
   virtual void after_step(Model<dim>& model, const StepInfo& info) = 0;
   /// A stage that carries state from step to step puts it in a checkpoint
-  /// (app/Checkpoint.hpp) and takes it back on restart, under names starting "name()/".
+  /// (app/Checkpoint.hpp) and takes it back on restart, under names starting "name()/":
+  /// arrays with one entry (of a fixed number of values) per point, in the points' order,
+  /// so that a restart on another number of ranks splits them with the points. restore()
+  /// reads how many points this rank now has from "points/count".
   virtual void save(Archive&) const {}
   virtual void restore(const Archive&) {}
   /// A distributed run's points changed ranks: a stage that carries arrays with one entry
