@@ -240,8 +240,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
       for_each_regular_point<dim>(m.grid, first, last, static_cast<int>(ppc), inside, [&](const Vec<dim>& x) {
         not_overlapping(x);
         ++added;
-        const auto cell = m.grid.cell_of(x);
-        ++per_key[cell ? m.grid.node_index(*cell) : 0];
+        ++per_key[cell_corner_key(m.grid, x)];
       });
       fills.push_back({first, last, static_cast<int>(ppc), mat_id, inside});
     } else {
@@ -269,8 +268,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     for (const Fill& f : fills)
       add_regular_points<dim>(m.grid, f.first, f.last, f.ppc, f.inside, f.material, m.materials[f.material]->density(),
                               m.points, [&](const Vec<dim>& x) {
-                                const auto cell = m.grid.cell_of(x);
-                                const bool mine = owner_of(m.rank_cells, cell ? m.grid.node_index(*cell) : 0) == me;
+                                const bool mine = owner_of(m.rank_cells, cell_corner_key(m.grid, x)) == me;
                                 if (mine) m.point_ids.push_back(id);
                                 ++id;
                                 return mine;

@@ -21,13 +21,19 @@
 
 namespace gradmpm {
 
-/// Each point's key: the grid node at the lower corner of the cell that holds x (node 0
-/// for a point outside the grid: the load step's stencils report it).
+/// A point's key: the grid node at the lower corner of the cell that holds x (node 0 for
+/// a point outside the grid: the load step's stencils report it).
+template <int dim>
+int cell_corner_key(const Grid<dim>& grid, const Vec<dim>& x) {
+  const auto c = grid.cell_of(x);
+  return c ? grid.node_index(*c) : 0;
+}
+
+/// Each point's key (cell_corner_key).
 template <int dim>
 std::vector<int> cell_corner_keys(const Grid<dim>& grid, const std::vector<Vec<dim>>& x) {
-  std::vector<int> key(x.size(), 0);
-  for (std::size_t p = 0; p < x.size(); ++p)
-    if (const auto c = grid.cell_of(x[p])) key[p] = grid.node_index(*c);
+  std::vector<int> key(x.size());
+  for (std::size_t p = 0; p < x.size(); ++p) key[p] = cell_corner_key(grid, x[p]);
   return key;
 }
 
