@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include <limits>
 #include <numeric>
 
 #include "gradmpm/core/Errors.hpp"
@@ -30,23 +31,6 @@ const std::string kProgram = std::string("gradmpm ") + GRADMPM_VERSION;
 
 /// A distributed run's point file of rank r.
 std::string point_file(long long r) { return fmt::format("points_{:04d}.h5", r); }
-
-/// Every rank stops with the first problem (in rank order) when any rank has one: in a
-/// distributed run as a UserError with that one message on every rank (rank 0 prints it,
-/// every rank exits with code 2: no rank waits for another that stopped); serially as E.
-template <class E>
-void stop_if_any(const std::string& problem) {
-  if (!ranks::distributed()) {
-    if (!problem.empty()) throw E(problem);
-    return;
-  }
-  if (ranks::min(problem.empty() ? 1 : 0) == 1) return;
-  std::string first;
-  for (const std::string& p : ranks::gather_on_root(problem))
-    if (first.empty() && !p.empty()) first = p;
-  const std::vector<char> told = ranks::broadcast(std::vector<char>(first.begin(), first.end()));
-  throw UserError(std::string(told.begin(), told.end()));
-}
 
 /// Step numbers of the complete checkpoint folders in `folder`.
 std::vector<std::pair<int, fs::path>> checkpoints_in(const fs::path& folder) {
@@ -135,7 +119,7 @@ CheckpointFolder::CheckpointFolder(fs::path folder, std::string shown, int every
     for (const auto& e : fs::directory_iterator(folder_, ec))
       if (e.path().filename().string().starts_with(".step_")) fs::remove_all(e.path(), ec);
   }
-  stop_if_any<OutputError>(problem);
+  ranks::stop_if_any<OutputError>(problem);
   const std::string pid = std::to_string(::getpid());  // rank 0's names the temporaries
   const std::vector<char> told = ranks::broadcast(std::vector<char>(pid.begin(), pid.end()));
   tag_.assign(told.begin(), told.end());
@@ -153,7 +137,7 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
     fs::create_directories(tmp / "outputs", ec);
     if (ec) problem = fmt::format("{}: cannot create ({})", shown, ec.message());
   }
-  stop_if_any<OutputError>(problem);
+  ranks::stop_if_any<OutputError>(problem);
   if (ranks::distributed()) {  // each rank its points, flushed before rank 0 publishes the folder
     const std::string file = point_file(ranks::rank());
     try {
@@ -162,7 +146,7 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
     } catch (const UserError& e) {
       problem = fmt::format("rank {}: {}", ranks::rank(), e.what());
     }
-    stop_if_any<OutputError>(problem);
+    ranks::stop_if_any<OutputError>(problem);
   }
   if (root) try {
       write_hdf5_archive(tmp / kFile, a);
@@ -188,7 +172,7 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
     } catch (const UserError& e) {
       problem = e.what();
     }
-  stop_if_any<OutputError>(problem);  // no rank goes on past a checkpoint that is not there
+  ranks::stop_if_any<OutputError>(problem);  // no rank goes on past a checkpoint that is not there
   return shown;
 }
 
@@ -314,7 +298,15 @@ void save_run_state(Archive& a, Archive& points, const Model<dim>& m, const Driv
     return;
   }
   a.put_integer("layout/files", ranks::size());
-  a.put("layout/rank_cells", std::vector<long long>(m.rank_cells.begin(), m.rank_cells.end()));
+  // The cells each file's points lie in, as the range of their keys (cell_corner_key): a
+  // restart reads only the files that may hold points in its cells.
+  std::vector<int> range = {std::numeric_limits<int>::max(), -1};
+  for (const int key : cell_corner_keys(m.grid, m.points.position)) {
+    range[0] = std::min(range[0], key);
+    range[1] = std::max(range[1], key);
+  }
+  const std::vector<int> ranges = ranks::all_gather(range);
+  a.put("layout/file_keys", std::vector<long long>(ranges.begin(), ranges.end()));
   save_points(points, m, stages);
 }
 
@@ -354,12 +346,14 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
     if (files == 0) {
       rows.add(a, keep_of(a));
     } else {
-      // Written by as many ranks with the same cells (the same case): this rank's points
-      // are all in its own file, and it reads that one only.
-      const std::vector<long long>& cut = a.integers("layout/rank_cells", files + 1);
-      const bool same = split && files == ranks::size() && std::equal(cut.begin(), cut.end(), m.rank_cells.begin());
+      // Only the files whose points' cells meet this rank's: restarted on as many ranks
+      // (the same case, so the same cells) its own file alone; on other numbers of ranks
+      // the few whose slabs overlap its slab.
+      const std::vector<long long>& keys = a.integers("layout/file_keys", 2 * files);
+      const int lo = split ? m.rank_cells[ranks::rank()] : 0;
+      const int hi = split ? m.rank_cells[ranks::rank() + 1] : std::numeric_limits<int>::max();
       for (long long f = 0; f < files; ++f) {
-        if (same && f != ranks::rank()) continue;
+        if (keys[2 * f + 1] < lo || keys[2 * f] >= hi) continue;  // (an empty file: max > min)
         const fs::path file = r.folder / point_file(f);
         if (!fs::exists(file))
           throw InputError(fmt::format("{}: {} is missing (the checkpoint has {} point files)", r.folder.string(),
@@ -371,7 +365,7 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
   } catch (const UserError& e) {
     problem = e.what();
   }
-  stop_if_any<InputError>(problem);  // a file only some ranks read stops them all
+  ranks::stop_if_any<InputError>(problem);  // a file only some ranks read stops them all
   double kept = static_cast<double>(rows.count());
   ranks::sum(&kept, 1);
   if (static_cast<long long>(kept) != total)
@@ -383,7 +377,7 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
   } catch (const UserError& e) {
     problem = e.what();
   }
-  stop_if_any<InputError>(problem);
+  ranks::stop_if_any<InputError>(problem);
   const long long n = mine.integer("points/count");
   p.for_each_array([&](const char* name, auto& v) { get_array(mine, std::string("points/") + name, n, v); });
   p.state_stride = m.state_stride();

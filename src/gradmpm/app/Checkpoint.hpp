@@ -6,7 +6,7 @@
 //   checkpoint.h5   the whole state (io/Hdf5Archive.hpp): the driver's load factor, next
 //                   increment and counts, the outputs accumulated so far (CSV rows, VTK
 //                   series), the case text and the program version, the points' layout
-//                   (layout/: their number, the number of point files, the ranks' cells);
+//                   (layout/: their number, the number of point files, each file's cells);
 //                   and, of a serial run, the points: every array (points/), every state
 //                   variable, the post-step stages' per-point arrays, the ids
 //   points_RRRR.h5  a distributed run's points, one file per rank, written by that rank
@@ -24,7 +24,8 @@
 // the uninterrupted run's, bit for bit (serially; on several ranks to PETSc's round-off).
 // A restart may use another number of ranks than the run that wrote the checkpoint
 // (serial included): each rank keeps the checkpoint's points that lie in its cells,
-// reading only its own file when the ranks and their cells are the same. A checkpoint of
+// reading only the files whose points' cells meet its own (checkpoint.h5 lists each
+// file's range of cells): its own file alone when the ranks are as many. A checkpoint of
 // another case (compared as the TOML the program read, overrides included), another
 // dimension or another program version is refused (exit 2) with the difference.
 #include <filesystem>

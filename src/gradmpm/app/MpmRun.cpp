@@ -99,6 +99,36 @@ std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, cons
   return pieces;
 }
 
+/// A CSV table of the points, arranged by id over the ranks (arrange_by_id), as `name` in
+/// the output folder `dir`. A distributed run writes it into rank 0's staged file in
+/// `shared` (its output folder, as every rank names it): rank 0 the header, then each rank
+/// its rows at the offset of the ranks before it (ranks::write_in_rank_order); rank 0
+/// publishes it when every rank has written. A collective call.
+void write_in_id_order(const fs::path& dir, const fs::path& shared, const std::string& name, const CsvTable& table) {
+  if (!ranks::distributed()) return write_now(dir, name, table.str());
+  const bool root = ranks::rank() == 0;
+  std::optional<StagedOutputs> out;
+  std::string problem, staged;
+  if (root) try {
+      out.emplace(shared);
+      staged = out->stage(name).string();
+    } catch (const OutputError& e) {
+      problem = e.what();
+    }
+  ranks::stop_if_any<OutputError>(problem);
+  const std::vector<char> told = ranks::broadcast(std::vector<char>(staged.begin(), staged.end()));
+  problem = ranks::write_in_rank_order(std::string(told.begin(), told.end()),
+                                       root ? table.header() + table.rows() : table.rows());
+  if (!problem.empty()) problem = fmt::format("rank {}: {}", ranks::rank(), problem);
+  ranks::stop_if_any<OutputError>(problem);
+  if (root) try {
+      out->commit();
+    } catch (const OutputError& e) {
+      problem = e.what();
+    }
+  ranks::stop_if_any<OutputError>(problem);
+}
+
 template <int dim>
 void print_step(const StepInfo& info) {
   std::string res;
@@ -325,13 +355,19 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           }
         },
         start);
-    collect_on_root(m, stages);  // the final files read every point (a distributed run: on rank 0)
+    {
+      // The final files in id order. A distributed run's ranks take even runs of ids
+      // (arrange_by_id) and each writes its rows at their place: no rank holds every point.
+      arrange_by_id(m, stages);
+      const PointColumns<dim> table(m, gradient_step.fields());
+      std::vector<std::string> final_columns = table.with_state(kFinalColumns);
+      final_columns.push_back("dissipation");  // last: the columns before it keep their places
+      write_in_id_order(dir, options.pieces, "points_final.csv", table.csv(final_columns));
+      if (gradient_step.fields())
+        write_in_id_order(dir, options.pieces, "points_gradient.csv", table.csv(kGradientColumns));
+    }
+    if (output.check == "column") collect_on_root(m, stages);  // the check reads every point (on rank 0)
     if (!writes) return;
-    const PointColumns<dim> table(m, gradient_step.fields());
-    std::vector<std::string> final_columns = table.with_state(kFinalColumns);
-    final_columns.push_back("dissipation");  // last: the columns before it keep their places
-    write_now(dir, "points_final.csv", table.csv(final_columns).str());
-    if (gradient_step.fields()) write_now(dir, "points_gradient.csv", table.csv(kGradientColumns).str());
     if (gradient_step.enabled() && !quiet)
       fmt::print(
           "  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",

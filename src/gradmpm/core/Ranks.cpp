@@ -1,11 +1,17 @@
 #include "gradmpm/core/Ranks.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <numeric>
 #include <stdexcept>
 #include <string>
-#include <numeric>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #ifdef GRADMPM_WITH_PETSC  // PETSc brings MPI: the distributed run needs both
 #include <mpi.h>
@@ -31,6 +37,22 @@ int on_this_machine() { return state().on_this_machine; }
 void before_stop(std::function<void()> hook) {
   if (state().started) state().hooks.push_back(std::move(hook));
 }
+
+namespace {
+/// One process writes the whole file and flushes it to disk.
+std::string write_whole(const std::string& file, const std::string& bytes) {
+  {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    if (out) out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (out) out.close();
+    if (!out) return file + ": cannot write (" + std::strerror(errno) + ")";
+  }
+  const int fd = ::open(file.c_str(), O_RDONLY);
+  const bool synced = fd >= 0 && ::fsync(fd) == 0;
+  if (fd >= 0) ::close(fd);
+  return synced ? "" : file + ": cannot flush to disk (" + std::strerror(errno) + ")";
+}
+}  // namespace
 
 #ifdef GRADMPM_WITH_PETSC
 
@@ -160,6 +182,52 @@ void abort(int code) {
   std::exit(code);
 }
 
+std::string write_in_rank_order(const std::string& file, const std::string& bytes) {
+  if (size() == 1) return write_whole(file, bytes);
+  long long n = static_cast<long long>(bytes.size()), offset = 0, total = 0;
+  MPI_Exscan(&n, &offset, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  if (rank() == 0) offset = 0;  // (MPI_Exscan leaves rank 0's undefined)
+  MPI_Allreduce(&n, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  auto problem = [&](const char* what, int code) {
+    char text[MPI_MAX_ERROR_STRING];
+    int length = 0;
+    MPI_Error_string(code, text, &length);
+    return file + ": " + what + " (" + std::string(text, length) + ")";
+  };
+  MPI_File fh;
+  // Collective: every rank opens, or none (MPI-IO agrees on the outcome).
+  int code = MPI_File_open(MPI_COMM_WORLD, file.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
+  if (code != MPI_SUCCESS) return problem("cannot open for writing", code);
+  std::string result;
+  code = MPI_File_set_size(fh, total);  // (collective) a file that was there is cut to this size
+  if (code != MPI_SUCCESS) result = problem("cannot set its size", code);
+  constexpr long long chunk = 1LL << 30;  // MPI counts are int
+  for (long long at = 0; result.empty() && at < n; at += chunk) {
+    const int count = static_cast<int>(std::min(chunk, n - at));
+    MPI_Status status;
+    code = MPI_File_write_at(fh, offset + at, bytes.data() + at, count, MPI_BYTE, &status);
+    int written = 0;
+    if (code == MPI_SUCCESS) MPI_Get_count(&status, MPI_BYTE, &written);
+    if (code != MPI_SUCCESS || written != count) result = problem("cannot write", code);
+  }
+  code = MPI_File_sync(fh);  // (collective)
+  if (code != MPI_SUCCESS && result.empty()) result = problem("cannot flush to disk", code);
+  MPI_File_close(&fh);
+  return result;
+}
+
+std::string first_problem(const std::string& problem) {
+  if (size() == 1) return problem;
+  int none = problem.empty() ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &none, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (none == 1) return "";
+  std::string first;
+  for (const std::string& p : gather_on_root(problem))
+    if (first.empty() && !p.empty()) first = p;
+  const std::vector<char> told = broadcast(std::vector<char>(first.begin(), first.end()));
+  return std::string(told.begin(), told.end());
+}
+
 #else  // one rank: every collective is the identity
 
 Session::Session(int*, char***) {}
@@ -182,6 +250,8 @@ std::vector<char> exchange(const char* send, const std::vector<long long>& send_
 std::vector<std::string> gather_on_root(const std::string& mine) { return {mine}; }
 std::vector<char> broadcast(std::vector<char> bytes) { return bytes; }
 void abort(int code) { std::exit(code); }
+std::string write_in_rank_order(const std::string& file, const std::string& bytes) { return write_whole(file, bytes); }
+std::string first_problem(const std::string& problem) { return problem; }
 
 #endif
 

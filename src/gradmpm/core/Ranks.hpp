@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "gradmpm/core/Errors.hpp"
+
 namespace gradmpm::ranks {
 
 /// Ranks of the session (1 when none is started).
@@ -69,5 +71,27 @@ std::vector<char> broadcast(std::vector<char> bytes);
 
 /// Stops every rank with `code` (an error that other ranks cannot know of).
 [[noreturn]] void abort(int code);
+
+/// Writes every rank's `bytes` into `file`, one after another in rank order: each rank
+/// writes its own part at the offset of the ranks before it (MPI-IO; serially a plain
+/// file), and the file is flushed to disk. A collective call; `file` is created, or
+/// replaced. Returns "" or what went wrong on this rank.
+std::string write_in_rank_order(const std::string& file, const std::string& bytes);
+
+/// The first rank's non-empty `problem` (in rank order) on every rank, "" when no rank has one.
+std::string first_problem(const std::string& problem);
+
+/// Every rank stops with the first rank's problem when any rank has one: in a distributed
+/// run as a UserError with that one message on every rank (rank 0 prints it; every rank
+/// exits with code 2 and none waits for another that stopped); serially as E.
+template <class E>
+void stop_if_any(const std::string& problem) {
+  if (!distributed()) {
+    if (!problem.empty()) throw E(problem);
+    return;
+  }
+  const std::string first = first_problem(problem);
+  if (!first.empty()) throw UserError(first);
+}
 
 }  // namespace gradmpm::ranks

@@ -6,10 +6,14 @@
 
 namespace gradmpm {
 
-std::string CsvTable::str() const {
+std::string CsvTable::header() const {
   std::string s;
   for (std::size_t c = 0; c < names_.size(); ++c) s += (c ? "," : "") + names_[c];
-  s += '\n';
+  return s + '\n';
+}
+
+std::string CsvTable::rows() const {
+  std::string s;
   const std::size_t rows = columns_.empty() ? 0 : columns_[0].size();
   for (const auto& col : columns_)
     if (col.size() != rows) throw std::logic_error("CsvTable: columns of different lengths");

@@ -18,7 +18,10 @@ class CsvTable {
     add(std::move(name), std::vector<double>(v.data(), v.data() + v.size()));
   }
   /// The whole table as text; throws std::logic_error if the columns differ in length.
-  std::string str() const;
+  std::string str() const { return header() + rows(); }
+  /// Its header line, and its rows without it (a distributed run's ranks write theirs).
+  std::string header() const;
+  std::string rows() const;
 
  private:
   std::vector<std::string> names_;

@@ -288,6 +288,19 @@ void collect_on_root(Model<dim>& model, const std::vector<PostStepStage<dim>*>& 
 }
 
 template <int dim>
+void arrange_by_id(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
+  if (!ranks::distributed()) return;
+  double total = model.points.size();
+  ranks::sum(&total, 1);
+  const long long n = static_cast<long long>(total), size = ranks::size();
+  std::vector<int> to(model.points.size());
+  for (std::size_t p = 0; p < to.size(); ++p) to[p] = static_cast<int>(model.point_ids[p] * size / n);
+  const PointMigration move = PointMigration::exchange(to, model.point_ids);
+  migrate_points(model, move);
+  migrate_stages(stages, move);
+}
+
+template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
                             const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer,
                             const DriverState& start) {
@@ -379,7 +392,8 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
 #define GRADMPM_OWNERSHIP(dim)                                                                   \
   template void own_rank_points<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);    \
   template int migrate_to_owners<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);   \
-  template void collect_on_root<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);
+  template void collect_on_root<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);    \
+  template void arrange_by_id<dim>(Model<dim>&, const std::vector<PostStepStage<dim>*>&);
 GRADMPM_OWNERSHIP(1)
 GRADMPM_OWNERSHIP(2)
 GRADMPM_OWNERSHIP(3)

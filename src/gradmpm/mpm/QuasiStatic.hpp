@@ -63,10 +63,15 @@ void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& 
 /// Points that are in another rank's cells go to it; returns how many this rank sent.
 template <int dim>
 int migrate_to_owners(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
-/// Every point to rank 0, in id order (a checkpoint, the final outputs); migrate_to_owners
+/// Every point to rank 0, in id order (output.check's verification); migrate_to_owners
 /// gives them back.
 template <int dim>
 void collect_on_root(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
+/// The points in id order across the ranks: rank r takes the r-th of P even runs of ids,
+/// so that the ranks' rows one after another are every point in id order (the final CSV
+/// files, written by each rank at its place); migrate_to_owners gives them back.
+template <int dim>
+void arrange_by_id(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);
 
 /// Runs the analysis from load factor 0 (or from `start`, a restart) to 1 in
 /// settings.load_steps nominal steps.
