@@ -3,8 +3,8 @@
 // increasing id whichever way they came (mpm/PointMigration.hpp). The exchange itself is
 // MPI's (the Mpi.* tests run it on 2 and 3 ranks against the serial answer); here, on one
 // rank, the bookkeeping around it: the order the received rows are put in, rows of every
-// width (4-byte integers padded to the 8-byte blocks the exchange moves, 3x3 matrices,
-// state blocks of several values a point), and the points a rank keeps.
+// width (4-byte integers, 3x3 matrices, state blocks of several values a point), and the
+// points a rank keeps.
 #include <gtest/gtest.h>
 
 #include <numeric>

@@ -24,6 +24,9 @@ struct State {
   bool started = false;
   int size = 1, rank = 0, on_this_machine = 1;
   std::vector<std::function<void()>> hooks;
+#ifdef GRADMPM_WITH_PETSC
+  MPI_Comm exchange_comm = MPI_COMM_NULL;  ///< the sparse exchanges' messages, apart from any other
+#endif
 };
 State& state() {
   static State s;
@@ -32,6 +35,11 @@ State& state() {
 }  // namespace
 
 int size() { return state().size; }
+long long Neighbours::received() const {
+  long long n = 0;
+  for (const long long c : from_count) n += c;
+  return n;
+}
 int rank() { return state().rank; }
 int on_this_machine() { return state().on_this_machine; }
 void before_stop(std::function<void()> hook) {
@@ -68,12 +76,14 @@ Session::Session(int* argc, char*** argv) {
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, s.rank, MPI_INFO_NULL, &machine);
   MPI_Comm_size(machine, &s.on_this_machine);
   MPI_Comm_free(&machine);
+  MPI_Comm_dup(MPI_COMM_WORLD, &s.exchange_comm);
 }
 
 Session::~Session() {
   State& s = state();
   for (auto it = s.hooks.rbegin(); it != s.hooks.rend(); ++it) (*it)();
   s.hooks.clear();
+  MPI_Comm_free(&s.exchange_comm);
   MPI_Finalize();
   s = State{};
 }
@@ -126,32 +136,100 @@ void all_gather_rows(const double* mine, const std::vector<int>& counts, double*
   MPI_Allgatherv(mine, counts[rank()], MPI_DOUBLE, all, counts.data(), offsets.data(), MPI_DOUBLE, MPI_COMM_WORLD);
 }
 
-std::vector<char> exchange(const char* send, const std::vector<long long>& send_counts,
-                           std::vector<long long>& received_counts) {
-  const int n = size();
-  received_counts.assign(n, 0);
-  if (n == 1) {
-    received_counts[0] = send_counts[0];
-    return std::vector<char>(send, send + send_counts[0]);
+Neighbours neighbours_of(const std::vector<long long>& send_counts) {
+  Neighbours n;
+  const int me = rank();
+  for (int r = 0; r < static_cast<int>(send_counts.size()); ++r)
+    if (send_counts[r] > 0) {
+      n.to.push_back(r);
+      n.to_count.push_back(send_counts[r]);
+    }
+  if (size() == 1) {
+    n.from = n.to;
+    n.from_count = n.to_count;
+    return n;
   }
-  MPI_Alltoall(send_counts.data(), 1, MPI_LONG_LONG, received_counts.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD);
-  // MPI's counts are int: the bytes go as blocks of 8 (doubles' size) up to 2^31 blocks per rank pair.
-  std::vector<int> sc(n), so(n), rc(n), ro(n);
-  long long s_at = 0, r_at = 0;
-  for (int r = 0; r < n; ++r) {
-    if (send_counts[r] % 8 != 0 || received_counts[r] % 8 != 0 || s_at / 8 > INT32_MAX || r_at / 8 > INT32_MAX ||
-        send_counts[r] / 8 > INT32_MAX)
-      throw std::length_error("ranks::exchange: counts must be multiples of 8 bytes below 16 GiB");
-    sc[r] = static_cast<int>(send_counts[r] / 8);
-    so[r] = static_cast<int>(s_at / 8);
-    rc[r] = static_cast<int>(received_counts[r] / 8);
-    ro[r] = static_cast<int>(r_at / 8);
-    s_at += send_counts[r];
-    r_at += received_counts[r];
+  // Synchronous sends: one completes when its message was received, so a rank whose sends
+  // all completed enters the barrier; when every rank has, no message is on its way.
+  MPI_Comm comm = state().exchange_comm;
+  constexpr int tag = 1;
+  std::vector<MPI_Request> sends;
+  for (std::size_t k = 0; k < n.to.size(); ++k)
+    if (n.to[k] != me) {
+      sends.emplace_back();
+      MPI_Issend(&n.to_count[k], 1, MPI_LONG_LONG, n.to[k], tag, comm, &sends.back());
+    }
+  std::vector<std::pair<int, long long>> got;
+  if (send_counts.size() > static_cast<std::size_t>(me) && send_counts[me] > 0) got.emplace_back(me, send_counts[me]);
+  MPI_Request barrier = MPI_REQUEST_NULL;
+  bool in_barrier = false;
+  for (;;) {
+    int arrived = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, tag, comm, &arrived, &status);
+    if (arrived) {
+      long long count = 0;
+      MPI_Recv(&count, 1, MPI_LONG_LONG, status.MPI_SOURCE, tag, comm, MPI_STATUS_IGNORE);
+      got.emplace_back(status.MPI_SOURCE, count);
+    }
+    int done = 0;
+    if (!in_barrier) {
+      MPI_Testall(static_cast<int>(sends.size()), sends.data(), &done, MPI_STATUSES_IGNORE);
+      if (done) {
+        MPI_Ibarrier(comm, &barrier);
+        in_barrier = true;
+      }
+    } else {
+      MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
+      if (done) break;
+    }
   }
-  std::vector<char> received(static_cast<std::size_t>(r_at));
-  MPI_Alltoallv(send, sc.data(), so.data(), MPI_DOUBLE, received.data(), rc.data(), ro.data(), MPI_DOUBLE,
-                MPI_COMM_WORLD);
+  std::sort(got.begin(), got.end());
+  for (const auto& [r, count] : got) {
+    n.from.push_back(r);
+    n.from_count.push_back(count);
+  }
+  return n;
+}
+
+std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes) {
+  if (size() == 1) return std::vector<char>(send, send + static_cast<std::size_t>(n.received()) * item_bytes);
+  std::vector<char> received(static_cast<std::size_t>(n.received()) * item_bytes);
+  const int me = rank();
+  auto bytes = [&](long long items) {
+    const long long b = items * static_cast<long long>(item_bytes);
+    if (b > INT32_MAX) throw std::length_error("ranks::exchange: more than 2 GiB to one rank");
+    return static_cast<int>(b);
+  };
+  MPI_Comm comm = state().exchange_comm;
+  constexpr int tag = 2;
+  std::vector<MPI_Request> requests;
+  const char* own = nullptr;
+  char* own_to = nullptr;
+  long long own_items = 0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < n.from.size(); ++k) {
+    if (n.from[k] == me) {
+      own_to = received.data() + at;
+    } else {
+      requests.emplace_back();
+      MPI_Irecv(received.data() + at, bytes(n.from_count[k]), MPI_BYTE, n.from[k], tag, comm, &requests.back());
+    }
+    at += static_cast<std::size_t>(n.from_count[k]) * item_bytes;
+  }
+  at = 0;
+  for (std::size_t k = 0; k < n.to.size(); ++k) {
+    if (n.to[k] == me) {
+      own = send + at;
+      own_items = n.to_count[k];
+    } else {
+      requests.emplace_back();
+      MPI_Isend(send + at, bytes(n.to_count[k]), MPI_BYTE, n.to[k], tag, comm, &requests.back());
+    }
+    at += static_cast<std::size_t>(n.to_count[k]) * item_bytes;
+  }
+  if (own) std::memcpy(own_to, own, static_cast<std::size_t>(own_items) * item_bytes);
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
   return received;
 }
 
@@ -242,10 +320,16 @@ std::vector<int> all_gather(const std::vector<int>& mine) { return mine; }
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
   std::copy(mine, mine + counts[0], all);
 }
-std::vector<char> exchange(const char* send, const std::vector<long long>& send_counts,
-                           std::vector<long long>& received_counts) {
-  received_counts = send_counts;
-  return std::vector<char>(send, send + send_counts[0]);
+Neighbours neighbours_of(const std::vector<long long>& send_counts) {
+  Neighbours n;
+  if (!send_counts.empty() && send_counts[0] > 0) {
+    n.to = n.from = {0};
+    n.to_count = n.from_count = {send_counts[0]};
+  }
+  return n;
+}
+std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes) {
+  return std::vector<char>(send, send + static_cast<std::size_t>(n.received()) * item_bytes);
 }
 std::vector<std::string> gather_on_root(const std::string& mine) { return {mine}; }
 std::vector<char> broadcast(std::vector<char> bytes) { return bytes; }

@@ -56,11 +56,25 @@ std::vector<int> all_gather(const std::vector<int>& mine);
 /// values, gathered on every rank; `counts` known to all.
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all);
 
-/// Point-to-point exchange (MPI_Alltoallv of bytes): send_counts[r] bytes of `send`, in
-/// rank order, go to rank r; returns what every rank sent to this one, in rank order.
-/// received_counts[r]: the bytes that came from rank r.
-std::vector<char> exchange(const char* send, const std::vector<long long>& send_counts,
-                           std::vector<long long>& received_counts);
+/// The ranks a sparse exchange sends to and receives from, and how many items each (this
+/// rank among them where it keeps items), in increasing rank.
+struct Neighbours {
+  std::vector<int> to, from;
+  std::vector<long long> to_count, from_count;
+  long long received() const;  ///< items this rank receives, its own included
+};
+
+/// Finds who sends to this rank when send_counts[r] items go to rank r, without an
+/// all-to-all: each rank sends its counts only to the ranks it sends to and takes the
+/// messages that arrive until a non-blocking barrier, entered once its own were received,
+/// completes (the NBX consensus of Hoefler, Siebert and Lumsdaine, PPoPP 2010). The cost
+/// grows with the number of neighbours and log P, not with P. A collective call.
+Neighbours neighbours_of(const std::vector<long long>& send_counts);
+
+/// Sends items of `item_bytes` to the neighbours: `send` holds them grouped by
+/// destination in rank order (n.to_count each); returns the items received, grouped by
+/// source in rank order (n.from_count each). Point-to-point messages to the neighbours only.
+std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes);
 
 /// Every rank's `mine` on rank 0, in rank order (empty on the other ranks).
 std::vector<std::string> gather_on_root(const std::string& mine);

@@ -6,14 +6,15 @@
 // state block (Model::points), their ids in the whole body (Model::point_ids) and what a
 // post-step stage carries at them (the gradient step's accumulated fields). When points
 // change owner, one PointMigration says how, and is applied to each of those arrays in
-// turn: each array is one point-to-point exchange (MPI_Alltoallv), and a rank's points
-// are always listed in increasing id, so the same points give the same arrays whichever
-// way they came (a restarted run, a collection on rank 0 and back).
+// turn. Who sends to whom is found once per migration (ranks::neighbours_of: messages
+// to the ranks a rank sends to, no all-to-all); each array is then one message to each of
+// those ranks, and a rank's points are always listed in increasing id, so the same points
+// give the same arrays whichever way they came (a restarted run, a collection and back).
 //
-// Three uses: keep (a run whose every rank holds every point, just read or restored,
-// keeps its own: no communication), to the owners after a converged step (the points
-// that crossed into another rank's cells; most stay), and every point to rank 0 and back
-// (a checkpoint, the final CSV files).
+// Uses: keep (a run whose every rank holds every point, just read or restored, keeps its
+// own: no communication), to the owners after a converged step (the points that crossed
+// into another rank's cells, to a neighbour; most stay), the points by runs of ids for
+// the final CSV files, and every point to rank 0 (output.check's verification).
 #include <algorithm>
 #include <cstring>
 #include <numeric>
@@ -41,6 +42,7 @@ class PointMigration {
     const int size = ranks::size();
     m.send_counts_.assign(size, 0);
     for (const int r : dest) ++m.send_counts_[r];
+    m.neighbours_ = ranks::neighbours_of(std::vector<long long>(m.send_counts_.begin(), m.send_counts_.end()));
     // This rank's points grouped by destination, in increasing id within each group.
     std::vector<int> start(size + 1, 0);
     for (int r = 0; r < size; ++r) start[r + 1] = start[r] + m.send_counts_[r];
@@ -93,19 +95,16 @@ class PointMigration {
   /// `sorted` (else as received: rank order).
   template <class T>
   void move(const std::vector<T>& a, int per_point, std::vector<T>& out, bool sorted) const {
-    const int size = ranks::size();
-    const std::size_t row = sizeof(T) * per_point, padded = (row + 7) / 8 * 8;  // ranks::exchange moves blocks of 8
-    std::vector<char> send(send_order_.size() * padded, 0);
+    const std::size_t row = sizeof(T) * per_point;
+    std::vector<char> send(send_order_.size() * row);
     for (std::size_t k = 0; k < send_order_.size(); ++k)
-      std::memcpy(send.data() + k * padded, a.data() + static_cast<std::size_t>(send_order_[k]) * per_point, row);
-    std::vector<long long> bytes(size), received_bytes;
-    for (int r = 0; r < size; ++r) bytes[r] = static_cast<long long>(send_counts_[r]) * static_cast<long long>(padded);
-    const std::vector<char> got = ranks::exchange(send.data(), bytes, received_bytes);
-    const std::size_t n = got.size() / padded;
+      std::memcpy(send.data() + k * row, a.data() + static_cast<std::size_t>(send_order_[k]) * per_point, row);
+    const std::vector<char> got = ranks::exchange(neighbours_, send.data(), row);
+    const std::size_t n = static_cast<std::size_t>(neighbours_.received());
     out.resize(n * per_point);
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t from = sorted ? static_cast<std::size_t>(order_[k]) : k;
-      std::memcpy(static_cast<void*>(out.data() + k * per_point), got.data() + from * padded, row);
+      std::memcpy(static_cast<void*>(out.data() + k * per_point), got.data() + from * row, row);
     }
   }
 
@@ -113,6 +112,7 @@ class PointMigration {
   std::vector<int> order_;                     ///< keep: the kept positions; exchange: received row of each point after
   std::vector<int> send_order_, send_counts_;  ///< exchange: this rank's points by destination, and how many to each
   std::vector<int> ids_;                       ///< exchange: the ids after
+  ranks::Neighbours neighbours_;               ///< exchange: the ranks sent to and received from
 };
 
 }  // namespace gradmpm
