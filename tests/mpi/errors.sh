@@ -4,7 +4,8 @@
 # key named), an output folder rank 0 cannot create (exit 2), a Newton failure (exit 1),
 # points leaving the grid, seen by a load step or by the gradient step (exit 1, their ids
 # named once), a case too large for the machine's memory (exit 2: every rank decides from
-# the same available memory, the ranks of the machine counted together).
+# the same available memory, the ranks of the machine counted together), a checkpoint
+# folder that cannot be made (exit 2).
 #
 #   errors.sh GRADMPM MPIEXEC CASE WORKDIR
 set -uo pipefail
@@ -44,6 +45,10 @@ expect 1 "load step 2 (load factor 0.5): 32 material point(s) outside the grid (
 timeout 120 "$mpiexec" --allow-run-as-root --oversubscribe -n 2 "$gradmpm" run "${column[@]}" -q -j1 \
   --out "$work/e" >"$work/e.log" 2>&1
 expect 1 "solver failure: gradient step: 32 material point(s) outside the grid (ids): 0, 1, 2" "$work/e.log" $?
+# A checkpoint folder rank 0 cannot create (a file of that name): exit 2, one message.
+touch "$work/g.checkpoints"
+run --out "$work/g" --set linear_solver.type=petsc --set output.checkpoint_every=1 >"$work/g.log" 2>&1
+expect 2 "cannot create the checkpoint folder" "$work/g.log" $?
 GRADMPM_MAX_MEMORY=0.001 run --out "$work/f" --set linear_solver.type=petsc >"$work/f.log" 2>&1
 expect 2 "a case that fits in memory: it needs at least .* 2 of the 2 ranks on this machine" "$work/f.log" $?
 exit $failed
