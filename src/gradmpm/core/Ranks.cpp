@@ -26,6 +26,7 @@ struct State {
   std::vector<std::function<void()>> hooks;
 #ifdef GRADMPM_WITH_PETSC
   MPI_Comm exchange_comm = MPI_COMM_NULL;  ///< the sparse exchanges' messages, apart from any other
+  long long rounds = 0;                    ///< neighbours_of calls so far (the same on every rank)
 #endif
 };
 State& state() {
@@ -152,7 +153,10 @@ Neighbours neighbours_of(const std::vector<long long>& send_counts) {
   // Synchronous sends: one completes when its message was received, so a rank whose sends
   // all completed enters the barrier; when every rank has, no message is on its way.
   MPI_Comm comm = state().exchange_comm;
-  constexpr int tag = 1;
+  // A rank that saw this round's barrier complete may start the next round and send to a
+  // rank that is still probing in this one: consecutive rounds use different tags (a
+  // round after the next cannot start before this one has ended everywhere).
+  const int tag = 1 + 2 * (state().rounds++ % 2);  // 1, 3, 1, ... (the data's tag is 2)
   std::vector<MPI_Request> sends;
   for (std::size_t k = 0; k < n.to.size(); ++k)
     if (n.to[k] != me) {
