@@ -337,8 +337,8 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
       file.get_objects("points/position", n, x);
       std::vector<char> keep(n, 1);
       if (split) {
-        const std::vector<int> key = cell_corner_keys(m.grid, x);
-        for (long long k = 0; k < n; ++k) keep[k] = owner_of(m.rank_cells, key[k]) == ranks::rank();
+        const std::vector<int> rank = owners(m.grid, m.rank_cells, x);
+        for (long long k = 0; k < n; ++k) keep[k] = rank[k] == ranks::rank();
       }
       return keep;
     };

@@ -90,12 +90,9 @@ std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, cons
     out.write_text(pieces[rank], table.vtu(names));
     out.commit();
   } catch (const OutputError& e) {
-    problem = e.what();
+    problem = fmt::format("rank {}: {}", rank, e.what());
   }
-  if (ranks::min(problem.empty() ? 1 : 0) == 0)
-    throw OutputError(problem.empty()
-                          ? fmt::format("another rank could not write its VTU piece into {}", folder.string())
-                          : fmt::format("rank {}: {}", rank, problem));
+  ranks::stop_if_any<OutputError>(problem);  // every rank, the first rank's message
   return pieces;
 }
 

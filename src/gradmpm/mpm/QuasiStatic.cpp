@@ -250,9 +250,19 @@ Vector solve_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& 
   }
 }
 
+/// Moves the model's points and the stages' per-point arrays as `migration` says.
 template <int dim>
-void migrate_stages(const std::vector<PostStepStage<dim>*>& stages, const PointMigration& migration) {
+void apply(const PointMigration& migration, Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
+  migrate_points(model, migration);
   for (PostStepStage<dim>* stage : stages) stage->migrate(migration);
+}
+
+/// Sends this rank's point p to rank to[p] (a collective call); returns how many went to another rank.
+template <int dim>
+int send_points(const std::vector<int>& to, Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
+  const PointMigration move = PointMigration::exchange(to, model.point_ids);
+  apply(move, model, stages);
+  return move.sent();
 }
 
 }  // namespace
@@ -265,26 +275,17 @@ void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& 
   std::vector<int> mine;
   for (int p = 0; p < model.points.size(); ++p)
     if (rank[p] == ranks::rank()) mine.push_back(p);
-  const PointMigration keep = PointMigration::keep(std::move(mine));
-  migrate_points(model, keep);
-  migrate_stages(stages, keep);
+  apply(PointMigration::keep(std::move(mine)), model, stages);
 }
 
 template <int dim>
 int migrate_to_owners(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
-  if (!ranks::distributed()) return 0;
-  const PointMigration move = PointMigration::exchange(owners(model), model.point_ids);
-  migrate_points(model, move);
-  migrate_stages(stages, move);
-  return move.sent();
+  return ranks::distributed() ? send_points(owners(model), model, stages) : 0;
 }
 
 template <int dim>
 void collect_on_root(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
-  if (!ranks::distributed()) return;
-  const PointMigration move = PointMigration::exchange(std::vector<int>(model.points.size(), 0), model.point_ids);
-  migrate_points(model, move);
-  migrate_stages(stages, move);
+  if (ranks::distributed()) send_points(std::vector<int>(model.points.size(), 0), model, stages);
 }
 
 template <int dim>
@@ -295,9 +296,7 @@ void arrange_by_id(Model<dim>& model, const std::vector<PostStepStage<dim>*>& st
   const long long n = static_cast<long long>(total), size = ranks::size();
   std::vector<int> to(model.points.size());
   for (std::size_t p = 0; p < to.size(); ++p) to[p] = static_cast<int>(model.point_ids[p] * size / n);
-  const PointMigration move = PointMigration::exchange(to, model.point_ids);
-  migrate_points(model, move);
-  migrate_stages(stages, move);
+  send_points(to, model, stages);
 }
 
 template <int dim>

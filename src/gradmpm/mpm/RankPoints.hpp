@@ -96,13 +96,19 @@ PointPartition points_of_ranks(const Grid<dim>& grid, const std::vector<Vec<dim>
   return part;
 }
 
+/// The rank that owns each position x under the cut `first` (rank_cells): its cell's owner.
+template <int dim>
+std::vector<int> owners(const Grid<dim>& grid, const std::vector<int>& first, const std::vector<Vec<dim>>& x) {
+  const std::vector<int> key = cell_corner_keys(grid, x);
+  std::vector<int> rank(key.size());
+  for (std::size_t p = 0; p < key.size(); ++p) rank[p] = owner_of(first, key[p]);
+  return rank;
+}
+
 /// The rank each of the model's points belongs to now (its current cell under m.rank_cells).
 template <int dim>
 std::vector<int> owners(const Model<dim>& m) {
-  const std::vector<int> key = cell_corner_keys(m.grid, m.points.position);
-  std::vector<int> rank(key.size());
-  for (std::size_t p = 0; p < key.size(); ++p) rank[p] = owner_of(m.rank_cells, key[p]);
-  return rank;
+  return owners(m.grid, m.rank_cells, m.points.position);
 }
 
 /// Applies a migration to the model's points: every array, the state block, the ids.
