@@ -132,3 +132,54 @@ TEST(RankPoints, TheCutFromCountsIsTheCutOfThePointsSortedByKey) {
     EXPECT_EQ(rank_cells_of_counts(per_key, ranks), first) << ranks << " ranks";
   }
 }
+
+TEST(RankPoints, EachRankOwnsTheEquationsOfTheNodesOfItsCells) {
+  // Grid partition, step 1 (docs/parallel.md): rank r owns the equations of the active
+  // nodes in its run of the cut (DofMap::rows_of, the rows PETSc gives it), a contiguous
+  // block after the ranks before it; the nodes of a rank's points' own cells (their lower
+  // corners, the keys) are in its rows, so its share of the tangent falls there but for
+  // the nodes its points reach across the cut.
+  for (const BasisKind basis : {BasisKind::MPM, BasisKind::CPGIMP}) {
+    const Model<2> m = make_column<2>(12, basis);
+    const auto st = evaluate_stencils(m.grid, m.points, basis);
+    const DofMap dofs(st, m.grid.num_nodes(), 2);
+    for (int ranks = 1; ranks <= 5; ++ranks) {
+      const std::vector<int> cut = rank_cells(m.grid, m.points.original_position, ranks);
+      const std::vector<int> rows = dofs.rows_of(cut);
+      ASSERT_EQ(rows.size(), cut.size());
+      EXPECT_EQ(rows.front(), 0);
+      EXPECT_EQ(rows.back(), dofs.num_dofs());
+      for (int e = 0; e < dofs.num_dofs(); ++e) {
+        const int node = dofs.node_of(e / 2), r = owner_of(cut, node);
+        EXPECT_TRUE(e >= rows[r] && e < rows[r + 1]) << "equation " << e << " of node " << node << ", " << ranks << " ranks";
+      }
+      // The ghost layer: a point's stencil nodes outside its rank's rows lie at most one
+      // node row below the rank's lowest cells (GIMP's support; none for MPM) and one
+      // (MPM) or two (GIMP) above its highest (the upper corners of its top cells).
+      const std::vector<int> owner = owners(m.grid, cut, m.points.position);
+      std::vector<int> low(ranks, 1 << 30), high(ranks, -1);  // each rank's points' cell rows
+      for (int p = 0; p < m.points.size(); ++p) {
+        const int row = m.grid.node_ijk(cell_corner_key(m.grid, m.points.position[p]))[1];
+        low[owner[p]] = std::min(low[owner[p]], row);
+        high[owner[p]] = std::max(high[owner[p]], row);
+      }
+      const int below = basis == BasisKind::MPM ? 0 : 1, above = basis == BasisKind::MPM ? 1 : 2;
+      int ghosts = 0;
+      for (int p = 0; p < m.points.size(); ++p) {
+        const int key = cell_corner_key(m.grid, m.points.position[p]), r = owner[p];
+        ASSERT_TRUE(dofs.active(key));
+        EXPECT_GE(dofs.dof(key, 0), rows[r]);
+        EXPECT_LT(dofs.dof(key, 1), rows[r + 1]);
+        for (int a = 0; a < st[p].count; ++a) {
+          const int node = st[p].node[a], e = dofs.dof(node, 0);
+          if (e >= rows[r] && e < rows[r + 1]) continue;
+          ++ghosts;
+          const int row = m.grid.node_ijk(node)[1];
+          EXPECT_TRUE(row >= low[r] - below && row <= high[r] + above) << "node " << node << " of a point of rank " << r;
+        }
+      }
+      if (ranks == 1) EXPECT_EQ(ghosts, 0);
+      else EXPECT_GT(ghosts, 0);
+    }
+  }
+}

@@ -10,7 +10,8 @@
 // of), and after each converged step the points that moved into another rank's cells are
 // sent to it. Everything else runs identically on every rank. Sums are reduced to rank 0
 // and broadcast, so every rank sees the same bits and takes the same branches (a Newton
-// decision never differs between ranks).
+// decision never differs between ranks). A load step's vectors are summed in the rows
+// each rank owns or reads only, between neighbours (solver/RowHalo.hpp).
 #include <cstddef>
 #include <functional>
 #include <string>

@@ -36,7 +36,7 @@ class HelmholtzSmoother {
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
     if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, shares);
-    if (shares) solver_->describe(SystemDescription{1, nullptr, true});
+    if (shares) solver_->describe(SystemDescription{1, nullptr, true, assembler.dofs().rank_rows()});
     solver_->compute(A);
   }
 

@@ -35,7 +35,7 @@ class SmoothingContext {
         backend_(backend),
         split_(owned_points(m)),
         st_(stencils(m)),
-        dofs_(st_, m.grid.num_nodes(), 1, split_),
+        dofs_(st_, m.grid.num_nodes(), 1, split_ ? m.rank_cells : std::vector<int>{}),
         assembler_(st_, m.points, dofs_, &m.grid),
         pattern_(build_rank_pattern(st_, dofs_)) {}
 

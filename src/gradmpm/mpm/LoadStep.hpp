@@ -33,6 +33,7 @@
 #include "gradmpm/mpm/RigidContact.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
+#include "gradmpm/solver/RowHalo.hpp"
 
 namespace gradmpm::detail {
 
@@ -56,7 +57,7 @@ class LoadStep {
                  : m.point_ids),
         st_(stencils(m, split_ ? &ids_ : nullptr)),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
-        dofs_(st_, m.grid.num_nodes(), dim, split_),
+        dofs_(st_, m.grid.num_nodes(), dim, split_ ? m.rank_cells : std::vector<int>{}),
         ghost_(m.ghost_penalty > 0.0
                    ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty, split_)
                    : nullptr),
@@ -85,9 +86,18 @@ class LoadStep {
       for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
     }
     pattern_ = make_pattern();  // after the constraints
+    if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(pattern_));
   }
 
   const DofMap& dofs() const { return dofs_; }
+  /// A distributed run's rows: this rank's and its ghosts' (those of its pattern's nodes
+  /// in other ranks' rows); serially every row is this rank's.
+  const RowHalo& halo() const { return halo_; }
+  /// The 2-norm of a vector right in every rank's own rows (f_int, the residual).
+  double norm(const Vector& v) const { return halo_.norm(v); }
+  /// A converged increment (right in own and ghost rows) whole on every rank, for the
+  /// step's outputs.
+  Vector whole(const Vector& v) const { return halo_.whole(v); }
   const Vector& f_ext() const { return f_ext_; }
   const std::vector<int>& constrained() const { return constrained_; }
   const std::vector<double>& increments() const { return increments_; }
@@ -109,7 +119,8 @@ class LoadStep {
   /// internal force f_int,i = sum_p tau_p grad N_i w_p. The updates are independent and
   /// run on OpenMP threads; f_int is scattered by buckets of points with disjoint nodes
   /// (Assembler::for_each_point_disjoint), so the result does not depend on the threads.
-  /// In a distributed run each rank updates its own points and f_int is summed.
+  /// In a distributed run each rank updates its own points and f_int is summed in its
+  /// own and ghost rows (RowHalo).
   void internal_force(const Vector& du, Vector& f_int) {
     if (fbar_) return internal_force_fbar(du, f_int);
     const auto& pts = model_.points;
@@ -180,8 +191,8 @@ class LoadStep {
         for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
     });
     if (contact_) contact_->add_force(du, f_int);
-    if (split_) ranks::sum(f_int.data(), f_int.size());
-    if (ghost_) ghost_->add_force(dofs_, du, f_int);
+    if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_force(dofs_, du, f_int);  // in rank 0's share, as in K
+    halo_.sum(f_int);  // the ranks' shares, in this rank's own and ghost rows
   }
 
   /// The tangent K at the state of the last internal_force(): each point's material
@@ -274,7 +285,7 @@ class LoadStep {
   /// At a converged iterate: keeps f_int (reactions); a distributed run sums the boxes'
   /// contact forces over the ranks.
   void converged(const Vector& f_int) {
-    f_int_converged_ = f_int;
+    f_int_converged_ = halo_.whole(f_int);
     if (split_ && contact_) contact_->sum_forces_over_ranks();
   }
 
@@ -296,16 +307,19 @@ class LoadStep {
  private:
   /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'
   /// stencils together) and each ghost face's nodes. In a distributed run, those of this
-  /// rank's share (stiffness()): its points' (its cells'), and on rank 0 the ghost faces'
-  /// and every constrained node's diagonal block (DirichletElimination puts the
-  /// constrained diagonal in rank 0's share). PETSc adds the shares' patterns up.
+  /// rank's share (stiffness()): its points' (its cells'), on rank 0 the ghost faces',
+  /// and the diagonal block of each constrained node in its rows (DirichletElimination
+  /// puts a constrained diagonal in the share of the row's owner). PETSc adds the
+  /// shares' patterns up.
   SparseMatrix make_pattern() const {
     const bool rank0 = !split_ || ranks::rank() == 0;
     const int n_main = fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size());
     const int n_ghost = ghost_ && rank0 ? ghost_->size() : 0;
     std::vector<int> constrained_nodes;
-    if (split_ && rank0) {
-      for (const int dof : constrained_) constrained_nodes.push_back(dofs_.node_of(dof / dim));
+    if (split_) {  // those in this rank's rows (a constrained node its points may not reach)
+      const int first = dofs_.rank_rows()[ranks::rank()], last = dofs_.rank_rows()[ranks::rank() + 1];
+      for (const int dof : constrained_)
+        if (dof >= first && dof < last) constrained_nodes.push_back(dofs_.node_of(dof / dim));
       std::sort(constrained_nodes.begin(), constrained_nodes.end());
       constrained_nodes.erase(std::unique(constrained_nodes.begin(), constrained_nodes.end()), constrained_nodes.end());
     }
@@ -323,6 +337,15 @@ class LoadStep {
           return fbar_ ? fbar_->nodes()[g][a] : st_[g].node[a];
         },
         dofs_);
+  }
+
+  /// The rows of the nodes a pattern couples (its columns with entries: the pattern
+  /// couples each node with itself), ascending.
+  static std::vector<int> touched_rows(const SparseMatrix& pattern) {
+    std::vector<int> rows;
+    for (int c = 0; c < pattern.outerSize(); ++c)
+      if (pattern.outerIndexPtr()[c + 1] > pattern.outerIndexPtr()[c]) rows.push_back(c);
+    return rows;
   }
 
   /// The points' stencils at x_n. With F-bar, without the nodes they reach only by a
@@ -407,6 +430,7 @@ class LoadStep {
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;
   SparseMatrix pattern_;
+  RowHalo halo_;  ///< distributed: own and ghost rows (serially: every row, no exchange)
   const SparseMatrix* last_stiffness_ = nullptr;  ///< the matrix stiffness() filled last (its pattern is pattern_)
   Assembler<dim> assembler_;
   std::vector<int> constrained_;

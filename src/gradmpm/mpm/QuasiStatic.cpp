@@ -92,7 +92,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
   // A distributed run's tangent goes to the solver as each rank's share (its points'
   // terms), which the solver adds up by rows (PETSc): no sum of the whole matrix.
   const bool share = solvers.main->adds_shares();
-  const SystemDescription description{dim, [&] { return step.node_coordinates(); }, share};
+  // Each rank reads the solution in its own and ghost rows only (step.halo()).
+  const SystemDescription description{dim, [&] { return step.node_coordinates(); }, share, step.dofs().rank_rows(),
+                                      share ? &step.halo() : nullptr};
   if (!solvers.described) {
     solvers.main->describe(description);
     solvers.described = true;
@@ -125,9 +127,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
         continue;
       }
       r = step.f_ext() - f_int;
-      const double scale = std::max(step.f_ext().norm(), f_int.norm());
+      const double scale = std::max(step.norm(step.f_ext()), step.norm(f_int));
       for (int c : step.constrained()) r[c] = 0.0;
-      err = scale > 0.0 ? r.norm() / scale : 0.0;
+      err = scale > 0.0 ? step.norm(r) / scale : 0.0;
       break;
     }
     times.assembly += seconds_since(t0);
@@ -145,12 +147,12 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     // biaxial test at 1/2560 of its load: 1.1e-10 against 4.5e-11, for 25 iterations),
     // so a residual within ten times the floor that no longer decreases (not halved in
     // two iterations) is round-off too.
-    const double absolute = r.norm();
+    const double absolute = step.norm(r);
     absolute_residuals.push_back(absolute);
     const bool stalled = it >= 3 && absolute < 10.0 * floor && absolute > 0.5 * absolute_residuals[it - 2];
     if (err < settings.tolerance || (it > 0 && absolute < floor) || stalled) {
       step.converged(f_int);
-      return du;
+      return step.whole(du);  // (a distributed run's: right in own and ghost rows until here)
     }
     if (it == settings.max_iterations)
       throw StepFailure{fmt::format("no convergence in {} iterations (residual {:.3e})", it, err)};
@@ -160,7 +162,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     step.stiffness(K, share);  // only when another iteration follows
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
-    bc.apply_to_matrix(K, step.constrained(), share);
+    bc.apply_to_matrix(K, step.constrained(), share, &step.halo());
     const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
     bc.apply_to_rhs(r, prescribed);
     const auto correction = [&](const Vector& d) {

@@ -8,9 +8,11 @@
 
 namespace gradmpm {
 
-void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share) {
+void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share,
+                                           const RowHalo* halo) {
   dofs_ = dofs;
   share_ = share;
+  halo_ = share && halo && halo->distributed() ? halo : nullptr;
   removed_.clear();
   std::vector<int> index(A.rows(), -1);  // constraint number of each dof, or -1
   for (std::size_t k = 0; k < dofs.size(); ++k) {
@@ -28,8 +30,16 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
     const int* d = std::lower_bound(begin, end, col);
     if (d != end && *d == col) diagonal[col] = A.valuePtr()[d - inner];
   }
-  if (share) ranks::sum(diagonal.data(), diagonal.size());  // the diagonal of the summed matrix
-  double scale = diagonal.size() > 0 ? diagonal.cwiseAbs().maxCoeff() : 0.0;
+  double scale = 0.0;
+  if (halo_) {  // the summed diagonal in this rank's own rows, then the largest over the ranks
+    halo_->add_to_owners(diagonal);
+    const Eigen::Index own = halo_->last() - halo_->first();
+    if (own > 0) scale = diagonal.segment(halo_->first(), own).cwiseAbs().maxCoeff();
+    ranks::max(&scale, 1);
+  } else {
+    if (share) ranks::sum(diagonal.data(), diagonal.size());  // the diagonal of the summed matrix
+    scale = diagonal.size() > 0 ? diagonal.cwiseAbs().maxCoeff() : 0.0;
+  }
   if (!(scale > 0.0)) scale = 1.0;
   scale_ = scale;
   for (int col = 0; col < A.outerSize(); ++col) {
@@ -38,7 +48,9 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
       const int kc = index[col], kr = index[row];
       if (kc < 0 && kr < 0) continue;
       if (row == col) {
-        it.valueRef() = !share || ranks::rank() == 0 ? scale : 0.0;
+        // In one share only: the row owner's with a halo, else rank 0's.
+        const bool mine = !share || (halo_ ? row >= halo_->first() && row < halo_->last() : ranks::rank() == 0);
+        it.valueRef() = mine ? scale : 0.0;
         continue;
       }
       if (kc >= 0 && kr < 0) removed_.push_back({row, kc, it.value()});
@@ -53,7 +65,10 @@ void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& va
     if (std::any_of(values.begin(), values.end(), [](double v) { return v != 0.0; })) {
       Vector lift = Vector::Zero(b.size());
       for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
-      ranks::sum(lift.data(), lift.size());
+      if (halo_)
+        halo_->sum(lift);
+      else
+        ranks::sum(lift.data(), lift.size());
       b -= lift;
     }
   } else {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gradmpm/core/Types.hpp"
+#include "gradmpm/solver/RowHalo.hpp"
 
 namespace gradmpm {
 
@@ -14,11 +15,16 @@ class DirichletElimination {
  public:
   /// Eliminates `dofs` from A in place. A keeps its pattern and stays SPD. `share`: A is
   /// this rank's share of a distributed run's matrix (the ranks' shares add up to it):
-  /// the scale is the summed matrix's, rank 0's share holds the constrained diagonal, and
-  /// the lift of a right-hand side is summed over the ranks.
-  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share = false);
+  /// the scale is the summed matrix's, one share holds each constrained diagonal (rank
+  /// 0's; with a halo, the row owner's, whose share's pattern must have it), and the
+  /// lift of a right-hand side is summed over the ranks. `halo`: with `share`, the
+  /// ranks' rows (a load step's RowHalo): those sums go to the rows' owners and ghosts
+  /// only; without, over the whole vector.
+  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share = false,
+                       const RowHalo* halo = nullptr);
 
-  /// Lifts b for the prescribed `values` (same order as the dofs given above).
+  /// Lifts b for the prescribed `values` (same order as the dofs given above); with a
+  /// halo, b is lifted in this rank's own and ghost rows.
   void apply_to_rhs(Vector& b, const std::vector<double>& values) const;
 
   /// x_c = g_c exactly: a Krylov solver meets the constrained equations only to its
@@ -38,6 +44,7 @@ class DirichletElimination {
   std::vector<int> dofs_;
   double scale_ = 1.0;          ///< the diagonal given to constrained equations
   bool share_ = false;          ///< A was a rank's share (apply_to_matrix)
+  const RowHalo* halo_ = nullptr;
   std::vector<Entry> removed_;  ///< A_ic for free rows i and constrained columns c
 };
 

@@ -16,6 +16,7 @@
 
 #include "gradmpm/core/Registry.hpp"
 #include "gradmpm/core/Types.hpp"
+#include "gradmpm/solver/RowHalo.hpp"
 #include "gradmpm/solver/linear/LinearSolverSettings.hpp"
 
 namespace gradmpm {
@@ -32,6 +33,16 @@ struct SystemDescription {
   /// its share (its points' contributions, with its points' pattern only) and the solver
   /// adds the shares up. Only a solver that adds_shares() may be told so.
   bool shares = false;
+  /// A distributed run's rows by rank: rank r owns rows [rank_rows[r], rank_rows[r + 1])
+  /// (DofMap::rank_rows: the nodes of its cells, so that its share falls in its own rows
+  /// but for the nodes its points reach across the cut). Empty: the solver splits the
+  /// rows evenly by nodes.
+  std::vector<int> rank_rows;
+  /// With shares and rank_rows: the caller reads the solution only in its own rows and
+  /// ghost rows (this halo's, made for the same rank_rows), so the solver fetches those
+  /// from their owners instead of gathering the whole solution on every rank. Null: the
+  /// whole solution on every rank.
+  const RowHalo* halo = nullptr;
 };
 
 class LinearSolver {

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cctype>
 #include <sstream>
+#include <stdexcept>
 
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Ranks.hpp"
@@ -201,9 +202,17 @@ class Petsc final : public LinearSolver {
           ksp_type ? ksp_type : "?", pc_type ? pc_type : "?", KSPConvergedReasons[reason], residual,
           residual / std::max(b.norm(), 1e-300), its, rtol));
     }
-    Vector x(b.size());
     const PetscScalar* xv = nullptr;
     check(VecGetArrayRead(x_, &xv), "VecGetArrayRead");
+    const RowHalo* halo = description_.halo;
+    if (distributed_ && description_.shares && halo) {  // this rank's rows, then its ghost rows from their owners
+      Vector x = Vector::Zero(b.size());
+      std::copy(xv, xv + (last_ - first_), x.data() + first_);
+      check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
+      halo->fetch_ghosts(x);
+      return x;
+    }
+    Vector x(b.size());
     ranks::all_gather_rows(xv, row_counts_, x.data());  // every rank continues with the whole solution
     check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
     return x;
@@ -376,13 +385,26 @@ class Petsc final : public LinearSolver {
     check(KSPSetFromOptions(ksp_), "reading linear_solver.options (KSPSetFromOptions)");
   }
 
-  /// Distributed: each rank holds the whole system; rank r owns a contiguous, even range of nodes.
+  /// Distributed: rank r owns a contiguous range of rows, description_.rank_rows (the
+  /// nodes of its cells) where given, else an even range of nodes.
   MPI_Comm comm() const { return distributed_ ? PETSC_COMM_WORLD : PETSC_COMM_SELF; }
   void split_rows(PetscInt n, int bs) {
     const int size = distributed_ ? ranks::size() : 1, rank = distributed_ ? ranks::rank() : 0;
     const PetscInt nodes = n / bs;
     row_counts_.assign(size, 0);
-    for (int r = 0; r < size; ++r) row_counts_[r] = static_cast<int>((nodes / size + (r < nodes % size)) * bs);
+    const auto& given = description_.rank_rows;
+    if (distributed_ && description_.halo && description_.halo->rank_rows() != given)
+      throw std::logic_error("PETSc: a halo made for other rows than the system's");
+    if (distributed_ && !given.empty()) {
+      const bool fits = static_cast<int>(given.size()) == size + 1 && given.front() == 0 && given.back() == n &&
+                        std::is_sorted(given.begin(), given.end()) &&
+                        std::all_of(given.begin(), given.end(), [&](int row) { return row % bs == 0; });
+      if (!fits)
+        throw std::logic_error(fmt::format("PETSc: rows by rank that do not cover the {} rows in blocks of {}", n, bs));
+      for (int r = 0; r < size; ++r) row_counts_[r] = given[r + 1] - given[r];
+    } else {
+      for (int r = 0; r < size; ++r) row_counts_[r] = static_cast<int>((nodes / size + (r < nodes % size)) * bs);
+    }
     first_ = 0;
     for (int r = 0; r < rank; ++r) first_ += row_counts_[r];
     last_ = first_ + row_counts_[rank];

@@ -1,0 +1,128 @@
+#pragma once
+// A distributed run's vectors in equation numbering (f_int, the residual, the Newton
+// increment): rank r owns the rows DofMap::rank_rows gives it (the active nodes of its
+// cells), and its points also read and add to a few rows of its neighbours (its ghost
+// rows: the nodes its points' supports reach across the cut). The Newton iteration needs
+// each vector right only in the rows a rank owns or reads, so instead of summing or
+// gathering the whole vector over the ranks (an all-reduce of every equation, each
+// iteration), the ghost rows' values travel between neighbours only:
+//   add_to_owners: each rank's partial sums in its ghost rows are added at their owners;
+//   fetch_ghosts:  each rank's ghost rows get their owners' values.
+// The neighbours are found once per load step (ranks::neighbours_of, no all-to-all).
+// Serially there are no ghost rows and every operation is the identity.
+// (Grid partition, step 2 in docs/parallel.md: the vectors are still as long as the
+// active grid; what a rank holds outside its own and ghost rows is not used.)
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "gradmpm/core/Ranks.hpp"
+#include "gradmpm/core/Types.hpp"
+
+namespace gradmpm {
+
+class RowHalo {
+ public:
+  /// A serial run's: every row is this rank's.
+  RowHalo() = default;
+
+  /// `rank_rows`: rank r owns rows [rank_rows[r], rank_rows[r + 1]) (DofMap::rank_rows;
+  /// empty: serial). `touched`: the rows this rank's points read or add to, ascending
+  /// (own rows among them are ignored). A collective call.
+  RowHalo(std::vector<int> rank_rows, const std::vector<int>& touched) : rank_rows_(std::move(rank_rows)) {
+    if (rank_rows_.empty()) return;
+    if (static_cast<int>(rank_rows_.size()) != ranks::size() + 1)
+      throw std::logic_error("RowHalo: rows by rank need one more entry than there are ranks");
+    const int me = ranks::rank();
+    std::vector<long long> count(ranks::size(), 0);
+    for (const int row : touched) {
+      if (row >= first() && row < last()) continue;
+      ghosts_.push_back(row);  // ascending rows: grouped by owner in rank order
+      ++count[owner(row)];
+    }
+    count[me] = 0;
+    to_owners_ = ranks::neighbours_of(count);
+    const std::vector<char> asked = ranks::exchange(to_owners_, reinterpret_cast<const char*>(ghosts_.data()), sizeof(int));
+    requested_.resize(asked.size() / sizeof(int));
+    if (!asked.empty()) std::memcpy(requested_.data(), asked.data(), asked.size());
+    for (const int row : requested_)
+      if (row < first() || row >= last()) throw std::logic_error("RowHalo: a rank asked for a row this rank does not own");
+    to_ghosts_.to = to_owners_.from;
+    to_ghosts_.to_count = to_owners_.from_count;
+    to_ghosts_.from = to_owners_.to;
+    to_ghosts_.from_count = to_owners_.to_count;
+  }
+
+  bool distributed() const { return !rank_rows_.empty(); }
+  /// This rank's rows: [first(), last()) (every row serially: last() is not known then).
+  int first() const { return distributed() ? rank_rows_[ranks::rank()] : 0; }
+  int last() const { return distributed() ? rank_rows_[ranks::rank() + 1] : -1; }
+  const std::vector<int>& rank_rows() const { return rank_rows_; }
+  /// Rows this rank holds for its points but does not own, and rows of its own that
+  /// other ranks hold (the values sent each way per exchange).
+  std::size_t ghost_rows() const { return ghosts_.size(); }
+  std::size_t shared_rows() const { return requested_.size(); }
+
+  /// The owners' rows get the sum over the ranks (their own value plus the ghosts' in
+  /// rank order: the same bits however the messages arrive); ghost rows keep this
+  /// rank's part.
+  void add_to_owners(Vector& v) const {
+    if (!distributed()) return;
+    std::vector<double> send(ghosts_.size());
+    for (std::size_t k = 0; k < ghosts_.size(); ++k) send[k] = v[ghosts_[k]];
+    const std::vector<char> got = ranks::exchange(to_owners_, reinterpret_cast<const char*>(send.data()), sizeof(double));
+    const double* add = reinterpret_cast<const double*>(got.data());
+    for (std::size_t k = 0; k < requested_.size(); ++k) v[requested_[k]] += add[k];
+  }
+
+  /// Ghost rows get their owners' values.
+  void fetch_ghosts(Vector& v) const {
+    if (!distributed()) return;
+    std::vector<double> send(requested_.size());
+    for (std::size_t k = 0; k < requested_.size(); ++k) send[k] = v[requested_[k]];
+    const std::vector<char> got = ranks::exchange(to_ghosts_, reinterpret_cast<const char*>(send.data()), sizeof(double));
+    const double* value = reinterpret_cast<const double*>(got.data());
+    for (std::size_t k = 0; k < ghosts_.size(); ++k) v[ghosts_[k]] = value[k];
+  }
+
+  /// The sum over the ranks of each rank's partial vector, right in this rank's own and
+  /// ghost rows (what a whole-vector sum gave, where it is read).
+  void sum(Vector& v) const {
+    add_to_owners(v);
+    fetch_ghosts(v);
+  }
+
+  /// The 2-norm of a vector that is right in every rank's own rows (the same bits on
+  /// every rank). Serially Eigen's norm.
+  double norm(const Vector& v) const {
+    if (!distributed()) return v.norm();
+    double squares = v.segment(first(), last() - first()).squaredNorm();
+    ranks::sum(&squares, 1);
+    return std::sqrt(squares);
+  }
+
+  /// The whole vector on every rank from each rank's own rows (an all-gather: for the
+  /// step's outputs, once per converged step).
+  Vector whole(const Vector& v) const {
+    if (!distributed()) return v;
+    std::vector<int> counts(ranks::size());
+    for (int r = 0; r < ranks::size(); ++r) counts[r] = rank_rows_[r + 1] - rank_rows_[r];
+    Vector all(v.size());
+    ranks::all_gather_rows(v.data() + first(), counts, all.data());
+    return all;
+  }
+
+ private:
+  int owner(int row) const {
+    return static_cast<int>(std::upper_bound(rank_rows_.begin(), rank_rows_.end(), row) - rank_rows_.begin()) - 1;
+  }
+
+  std::vector<int> rank_rows_;
+  std::vector<int> ghosts_;     ///< rows this rank holds but others own, ascending
+  std::vector<int> requested_;  ///< own rows other ranks hold, grouped by that rank in rank order
+  ranks::Neighbours to_owners_, to_ghosts_;
+};
+
+}  // namespace gradmpm

@@ -1,0 +1,62 @@
+// Requirement (issue 14, grid partition step 2, docs/parallel.md): on any number of
+// ranks, RowHalo's neighbour exchanges give each rank what a sum of the whole vector over
+// the ranks gave, in every row it owns or reads (its ghost rows), the same bits on every
+// rank that holds a row; its norm is the whole summed vector's norm, and whole() is the
+// summed vector. Run: mpirun -n N row_halo_check (exit 0: every check held).
+// Each rank touches a random set of rows spread over the whole vector (far more ghosts
+// than a load step has, and ranks that touch none of some owner's rows), with values
+// that make every sum exact in floating point (small integers).
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "gradmpm/core/Ranks.hpp"
+#include "gradmpm/solver/RowHalo.hpp"
+
+using namespace gradmpm;
+
+int main(int argc, char** argv) {
+  ranks::Session session(&argc, &argv);
+  const int size = ranks::size(), me = ranks::rank(), n = 997;
+  int failures = 0;
+  auto fail = [&](const char* what, int row, double got, double expected) {
+    if (failures++ < 10) std::fprintf(stderr, "rank %d: %s, row %d: %.17g, expected %.17g\n", me, what, row, got, expected);
+  };
+  // Uneven rows by rank, one rank with none when there are several.
+  std::vector<int> rank_rows(size + 1, 0);
+  for (int r = 1; r < size; ++r) rank_rows[r] = r == 1 && size > 2 ? 0 : static_cast<int>(1LL * n * r * r / (size * size));
+  rank_rows[size] = n;
+  // Rank r's partial vector: value (r + 1) * (row % 7 + 1) in its touched rows, zero elsewhere.
+  auto touches = [](int r, int row) { return ((row * 31 + r * 17) % 5 == 0) || (row % 97 == r); };
+  std::vector<int> touched;
+  Vector v = Vector::Zero(n), summed = Vector::Zero(n);
+  for (int row = 0; row < n; ++row) {
+    for (int r = 0; r < size; ++r)
+      if (touches(r, row) || (row >= rank_rows[r] && row < rank_rows[r + 1])) summed[row] += (r + 1) * (row % 7 + 1);
+    if (touches(me, row) || (row >= rank_rows[me] && row < rank_rows[me + 1])) {
+      touched.push_back(row);
+      v[row] = (me + 1) * (row % 7 + 1);
+    }
+  }
+  const RowHalo halo(rank_rows, touched);
+  Vector w = v;
+  halo.sum(w);
+  for (const int row : touched)
+    if (w[row] != summed[row]) fail("sum", row, w[row], summed[row]);
+  Vector owners = v;
+  halo.add_to_owners(owners);
+  for (int row = rank_rows[me]; row < rank_rows[me + 1]; ++row)
+    if (owners[row] != summed[row]) fail("add_to_owners", row, owners[row], summed[row]);
+  const double norm = halo.norm(w), expected = summed.norm();
+  if (std::abs(norm - expected) > 1e-14 * expected) fail("norm", -1, norm, expected);
+  const Vector all = halo.whole(w);
+  for (int row = 0; row < n; ++row)
+    if (all[row] != summed[row]) fail("whole", row, all[row], summed[row]);
+  long long ghosts = static_cast<long long>(halo.ghost_rows());
+  if (size > 1 && ghosts == 0) fail("no ghost rows", -1, 0, 1);
+  int failed = failures;
+  ranks::max(&failed, 1);
+  if (me == 0)
+    std::printf("%d ranks, %lld ghost rows on rank 0: %s\n", size, ghosts, failed ? "FAILED" : "sums, norm and whole as over the whole vector");
+  return failed ? 1 : 0;
+}
