@@ -75,18 +75,18 @@ class LoadStep {
       constrained_.push_back(dof);
       increments_.push_back(value);
     }
-    f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
-    if (split_) {  // every rank's points' share; the nodal masses too (the outputs ask for them on rank 0 only)
-      ranks::sum(f_ext_.data(), f_ext_.size());
-      mass_ = nodal_mass(st_, m.points, m.grid.num_nodes());
-      ranks::sum(mass_.data(), mass_.size());
-    }
     if (fbar_) {
       all_cells_.resize(fbar_->members().size());
       for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
     }
     pattern_ = make_pattern();  // after the constraints
     if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(pattern_));
+    f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
+    halo_.sum(f_ext_);  // every rank's points' share, in own and ghost rows
+    if (split_) {  // the nodal masses of every rank's points (the outputs ask for them on rank 0 only)
+      mass_ = nodal_mass(st_, m.points, m.grid.num_nodes());
+      ranks::sum(mass_.data(), mass_.size());
+    }
   }
 
   const DofMap& dofs() const { return dofs_; }
@@ -98,6 +98,7 @@ class LoadStep {
   /// A converged increment (right in own and ghost rows) whole on every rank, for the
   /// step's outputs.
   Vector whole(const Vector& v) const { return halo_.whole(v); }
+  /// The external force (a distributed run's: right in own and ghost rows).
   const Vector& f_ext() const { return f_ext_; }
   const std::vector<int>& constrained() const { return constrained_; }
   const std::vector<double>& increments() const { return increments_; }
@@ -282,17 +283,17 @@ class LoadStep {
     std::vector<double>().swap(weights_);
   }
 
-  /// At a converged iterate: keeps f_int (reactions); a distributed run sums the boxes'
-  /// contact forces over the ranks.
+  /// At a converged iterate: keeps the reactions f_int - f_ext (a distributed run's whole,
+  /// from the rows' owners); a distributed run sums the boxes' contact forces over the ranks.
   void converged(const Vector& f_int) {
-    f_int_converged_ = halo_.whole(f_int);
+    reaction_ = halo_.whole(f_int - f_ext_);
     if (split_ && contact_) contact_->sum_forces_over_ranks();
   }
 
   /// A vector in equation numbering at every grid node (dim values per node; zero on
   /// inactive nodes): the increment du, or the reactions f_int - f_ext.
   Vector on_grid(const Vector& v) const { return dofs_.to_grid_all(v); }
-  Vector grid_reaction() const { return on_grid(f_int_converged_ - f_ext_); }
+  Vector grid_reaction() const { return on_grid(reaction_); }
   /// The force of each rigid box on the body at the converged iterate (dim per box).
   Vector rigid_forces() const {
     Vector f = Vector::Zero(static_cast<Eigen::Index>(model_.rigid_boxes.size()) * dim);
@@ -441,7 +442,7 @@ class LoadStep {
   /// points: 40 MB, 4 ms of a load step's set-up).
   std::vector<MaterialResponse, DefaultInitAllocator<MaterialResponse>> response_;
   std::vector<double> trial_state_;  ///< the state block of the current iterate
-  Vector f_int_converged_;           ///< f_int at the converged iterate (reactions)
+  Vector reaction_;                  ///< f_int - f_ext at the converged iterate
   /// The gradients of the points' shape functions in the configuration their stress lives
   /// in, and their weights.
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
