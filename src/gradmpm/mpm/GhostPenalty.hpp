@@ -23,6 +23,7 @@
 // cells that hold points are never penalised, so the plastic zone under a load is not
 // stiffened (penalising the faces of every cell beside an empty one raised the Tresca
 // footing's collapse load by 10 % at alpha = 0.01: measured, docs/plasticity.md).
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -44,11 +45,14 @@ class GhostFaces {
     std::array<double, kFaceNodes * kFaceNodes> g{};  ///< g_ab, row-major over the active nodes
   };
 
-  /// alpha: the dimensionless factor (gamma = alpha E). `over_ranks`: `pts` are a
-  /// distributed run's rank's points; the cells' occupancy is that of every rank's.
+  /// alpha: the dimensionless factor (gamma = alpha E). `rank_nodes`: a distributed
+  /// run's cut of the grid nodes (Model::rank_cells), `pts` being this rank's points: the
+  /// cells' occupancy is that of every rank's, and the rank keeps the faces whose lowest
+  /// node is in its run (each face in one rank's share, its nodes near the rank's rows).
   GhostFaces(const Grid<dim>& grid, const MaterialPoints<dim>& pts,
              const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
-             bool over_ranks = false) {
+             const std::vector<int>& rank_nodes = {}) {
+    const bool over_ranks = !rank_nodes.empty();
     const auto& n = grid.cells();
     const int nc = grid.num_cells();
     // Points per cell and the stiffest material in each cell.
@@ -91,6 +95,15 @@ class GhostFaces {
         if (E == 0.0) E = young_max;
         add_face(grid, dofs, left, d, alpha * E, h);
       }
+    }
+    if (over_ranks) {
+      const int first = rank_nodes[ranks::rank()], last = rank_nodes[ranks::rank() + 1];
+      faces_.erase(std::remove_if(faces_.begin(), faces_.end(),
+                                  [&](const Face& F) {
+                                    const int lowest = *std::min_element(F.node.begin(), F.node.begin() + F.count);
+                                    return lowest < first || lowest >= last;
+                                  }),
+                   faces_.end());
     }
   }
 

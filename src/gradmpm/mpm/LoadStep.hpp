@@ -59,7 +59,8 @@ class LoadStep {
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
         dofs_(st_, m.grid.num_nodes(), dim, split_ ? m.rank_cells : std::vector<int>{}),
         ghost_(m.ghost_penalty > 0.0
-                   ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty, split_)
+                   ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty,
+                                                       split_ ? m.rank_cells : std::vector<int>{})
                    : nullptr),
         contact_(m.rigid_boxes.empty()
                      ? nullptr
@@ -192,7 +193,7 @@ class LoadStep {
         for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
     });
     if (contact_) contact_->add_force(du, f_int);
-    if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_force(dofs_, du, f_int);  // in rank 0's share, as in K
+    if (ghost_) ghost_->add_force(dofs_, du, f_int);  // this rank's faces (GhostFaces), as in K
     halo_.sum(f_int);  // the ranks' shares, in this rank's own and ghost rows
   }
 
@@ -200,7 +201,7 @@ class LoadStep {
   /// tangent is formed inside the (coloured, threaded) scatter-add, never stored. With a
   /// symmetric tangent (A_ijkl = A_klij) only the blocks b <= a are formed and mirrored.
   /// In a distributed run K is this rank's share (`share` must be true), which the solver
-  /// adds up: its points' terms and their contacts; the ghost faces in rank 0's share.
+  /// adds up: its points' terms and their contacts, and its ghost faces'.
   /// Its pattern holds those couplings only (make_pattern()).
   void stiffness(SparseMatrix& K, bool share = false) {
     if (split_ && !share)
@@ -241,7 +242,7 @@ class LoadStep {
         },
         symmetric);
     if (fbar_) fbar_->add_coupling(K, all_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
-    if (ghost_ && (!split_ || ranks::rank() == 0)) ghost_->add_matrix(dofs_, K);
+    if (ghost_) ghost_->add_matrix(dofs_, K);  // this rank's faces
     if (contact_) contact_->add_matrix(K);
   }
 
@@ -308,14 +309,13 @@ class LoadStep {
  private:
   /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'
   /// stencils together) and each ghost face's nodes. In a distributed run, those of this
-  /// rank's share (stiffness()): its points' (its cells'), on rank 0 the ghost faces',
-  /// and the diagonal block of each constrained node in its rows (DirichletElimination
+  /// rank's share (stiffness()): its points' (its cells'), its ghost faces' (GhostFaces:
+  /// those whose lowest node is in its run), and the diagonal block of each constrained node in its rows (DirichletElimination
   /// puts a constrained diagonal in the share of the row's owner). PETSc adds the
   /// shares' patterns up.
   SparseMatrix make_pattern() const {
-    const bool rank0 = !split_ || ranks::rank() == 0;
     const int n_main = fbar_ ? static_cast<int>(fbar_->nodes().size()) : static_cast<int>(st_.size());
-    const int n_ghost = ghost_ && rank0 ? ghost_->size() : 0;
+    const int n_ghost = ghost_ ? ghost_->size() : 0;
     std::vector<int> constrained_nodes;
     if (split_) {  // those in this rank's rows (a constrained node its points may not reach)
       const int first = dofs_.rank_rows()[ranks::rank()], last = dofs_.rank_rows()[ranks::rank() + 1];
