@@ -25,20 +25,27 @@ class HelmholtzSmoother {
   /// `scalar_pattern`: build_pattern() for one component per node. `dirichlet_dofs`:
   /// equations whose value is prescribed in every smoothing (u-RA); empty for natural BCs.
   /// `shares`: a distributed run's, where the assembler visits this rank's points and
-  /// the pattern is their share (build_rank_pattern): the
-  /// solver adds the ranks' matrices up, and the loads are summed over the ranks.
+  /// the pattern is their share (build_rank_pattern): the solver adds the ranks'
+  /// matrices up, the loads are summed in this rank's own and ghost rows (RowHalo), and
+  /// the smoothed fields are right in those rows (all that its points' stencils read).
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
                     const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {},
                     bool shares = false)
-      : assembler_(assembler), solver_(make_linear_solver(solver)), shares_(shares) {
+      : assembler_(assembler),
+        solver_(make_linear_solver(solver)),
+        shares_(shares),
+        halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern)) : RowHalo()) {
     if (shares && !solver_->adds_shares())
       throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
-    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, shares);
-    if (shares) solver_->describe(SystemDescription{1, nullptr, true, assembler.dofs().rank_rows()});
+    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, shares, &halo_);
+    if (shares) solver_->describe(SystemDescription{1, nullptr, true, assembler.dofs().rank_rows(), &halo_});
     solver_->compute(A);
   }
+  // The solver and the Dirichlet elimination keep the halo's address.
+  HelmholtzSmoother(const HelmholtzSmoother&) = delete;
+  HelmholtzSmoother& operator=(const HelmholtzSmoother&) = delete;
 
   /// Smooths a field known at the points (e-RA: a strain component, s-RA: a stress one).
   Vector smooth_point_field(const std::vector<double>& c_at_points,
@@ -50,7 +57,7 @@ class HelmholtzSmoother {
   /// of field j (Assembler::load_columns; with shares, of this rank's points); one solve
   /// sweep serves all.
   Eigen::MatrixXd smooth_loads(Eigen::MatrixXd f) const {
-    if (shares_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));
+    for (Eigen::Index j = 0; shares_ && j < f.cols(); ++j) halo_.sum(f.col(j));  // own and ghost rows
     return solver_->solve(f);
   }
 
@@ -65,7 +72,7 @@ class HelmholtzSmoother {
 
  private:
   Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
-    if (shares_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));  // this rank's points' load
+    if (shares_) halo_.sum(f);  // this rank's points' load, summed in own and ghost rows
     if (!dirichlet_.dofs().empty()) dirichlet_.apply_to_rhs(f, dirichlet_values);
     return solver_->solve(f);
   }
@@ -74,6 +81,7 @@ class HelmholtzSmoother {
   DirichletElimination dirichlet_;
   std::unique_ptr<LinearSolver> solver_;
   bool shares_;
+  RowHalo halo_;  ///< shares: this rank's own and ghost rows
 };
 
 }  // namespace gradmpm

@@ -340,15 +340,6 @@ class LoadStep {
         dofs_);
   }
 
-  /// The rows of the nodes a pattern couples (its columns with entries: the pattern
-  /// couples each node with itself), ascending.
-  static std::vector<int> touched_rows(const SparseMatrix& pattern) {
-    std::vector<int> rows;
-    for (int c = 0; c < pattern.outerSize(); ++c)
-      if (pattern.outerIndexPtr()[c + 1] > pattern.outerIndexPtr()[c]) rows.push_back(c);
-    return rows;
-  }
-
   /// The points' stencils at x_n. With F-bar, without the nodes they reach only by a
   /// sliver (drop_weak_nodes: support below 1e-8 of a cell's volume): F-bar takes the
   /// volumetric stiffness a lone point gives such a node away, and the tangent turned

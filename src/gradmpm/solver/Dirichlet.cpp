@@ -61,14 +61,17 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
 
 void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& values) const {
   if (values.size() != dofs_.size()) throw std::invalid_argument("Dirichlet values do not match the constrained dofs");
-  if (share_) {  // each rank's share of A_ic g_c, summed; none to sum for zero values (every rank alike)
+  if (halo_) {  // each rank's share of A_ic g_c, summed in own and ghost rows; always (the
+    // values may differ between ranks outside their rows, so no rank skips the exchange)
+    Vector lift = Vector::Zero(b.size());
+    for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
+    halo_->sum(lift);
+    b -= lift;
+  } else if (share_) {  // each rank's share of A_ic g_c, summed; none to sum for zero values (every rank alike)
     if (std::any_of(values.begin(), values.end(), [](double v) { return v != 0.0; })) {
       Vector lift = Vector::Zero(b.size());
       for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
-      if (halo_)
-        halo_->sum(lift);
-      else
-        ranks::sum(lift.data(), lift.size());
+      ranks::sum(lift.data(), lift.size());
       b -= lift;
     }
   } else {

@@ -23,6 +23,16 @@
 
 namespace gradmpm {
 
+/// The rows of the nodes a pattern couples (its columns with entries; a pattern of point
+/// stencils couples each node with itself), ascending: what a rank's share touches.
+inline std::vector<int> touched_rows(const SparseMatrix& pattern) {
+  std::vector<int> rows;
+  const auto* outer = pattern.outerIndexPtr();
+  for (int c = 0; c < pattern.outerSize(); ++c)
+    if ((pattern.isCompressed() ? outer[c + 1] - outer[c] : pattern.innerNonZeroPtr()[c]) > 0) rows.push_back(c);
+  return rows;
+}
+
 class RowHalo {
  public:
   /// A serial run's: every row is this rank's.
@@ -68,7 +78,7 @@ class RowHalo {
   /// The owners' rows get the sum over the ranks (their own value plus the ghosts' in
   /// rank order: the same bits however the messages arrive); ghost rows keep this
   /// rank's part.
-  void add_to_owners(Vector& v) const {
+  void add_to_owners(Eigen::Ref<Vector> v) const {
     if (!distributed()) return;
     std::vector<double> send(ghosts_.size());
     for (std::size_t k = 0; k < ghosts_.size(); ++k) send[k] = v[ghosts_[k]];
@@ -78,7 +88,7 @@ class RowHalo {
   }
 
   /// Ghost rows get their owners' values.
-  void fetch_ghosts(Vector& v) const {
+  void fetch_ghosts(Eigen::Ref<Vector> v) const {
     if (!distributed()) return;
     std::vector<double> send(requested_.size());
     for (std::size_t k = 0; k < requested_.size(); ++k) send[k] = v[requested_[k]];
@@ -89,7 +99,7 @@ class RowHalo {
 
   /// The sum over the ranks of each rank's partial vector, right in this rank's own and
   /// ghost rows (what a whole-vector sum gave, where it is read).
-  void sum(Vector& v) const {
+  void sum(Eigen::Ref<Vector> v) const {
     add_to_owners(v);
     fetch_ghosts(v);
   }

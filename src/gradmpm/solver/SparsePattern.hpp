@@ -112,17 +112,18 @@ SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
 }
 
 /// The pattern of this rank's share of an operator assembled from the stencils `st` of
-/// its points (a distributed run's rank's own, mpm/RankPoints.hpp): their stencils, and on
-/// rank 0 the diagonal block of every active node too (rank 0's share holds the
-/// constrained diagonals, DirichletElimination); the solver adds the ranks' patterns up.
-/// A serial run's is build_pattern()'s.
+/// its points (a distributed run's rank's own, mpm/RankPoints.hpp): their stencils, and
+/// the diagonal block of every active node in its rows (DofMap::rank_rows) too: the
+/// share of a row's owner holds its constrained diagonal (DirichletElimination with a
+/// RowHalo); the solver adds the ranks' patterns up. A serial run's is build_pattern()'s.
 template <int dim>
 SparseMatrix build_rank_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
-  if (!ranks::distributed() || ranks::rank() != 0) return build_pattern(st, dofs);
-  const int n_points = static_cast<int>(st.size());
+  if (!ranks::distributed()) return build_pattern(st, dofs);
+  const int n_points = static_cast<int>(st.size()), nc = dofs.ncomp();
+  const int first = dofs.rank_rows().at(ranks::rank()) / nc, last = dofs.rank_rows().at(ranks::rank() + 1) / nc;
   return build_pattern_of_groups(
-      n_points + dofs.num_active_nodes(), [&](int g) { return g < n_points ? st[g].count : 1; },
-      [&](int g, int a) { return g < n_points ? st[g].node[a] : dofs.node_of(g - n_points); }, dofs);
+      n_points + (last - first), [&](int g) { return g < n_points ? st[g].count : 1; },
+      [&](int g, int a) { return g < n_points ? st[g].node[a] : dofs.node_of(first + g - n_points); }, dofs);
 }
 
 /// The pattern of node groups given as lists.
