@@ -94,8 +94,11 @@ class LoadStep {
   /// A distributed run's rows: this rank's and its ghosts' (those of its pattern's nodes
   /// in other ranks' rows); serially every row is this rank's.
   const RowHalo& halo() const { return halo_; }
-  /// The 2-norm of a vector right in every rank's own rows (f_int, the residual).
-  double norm(const Vector& v) const { return halo_.norm(v); }
+  /// The 2-norms of f_ext, f_int and the residual r (right in every rank's own rows),
+  /// with one reduction over the ranks.
+  std::array<double, 3> norms(const Vector& f_int, const Vector& r) const {
+    return halo_.norms<3>({&f_ext_, &f_int, &r});
+  }
   /// A converged increment (right in own and ghost rows) whole on every rank, for the
   /// step's outputs.
   Vector whole(const Vector& v) const { return halo_.whole(v); }

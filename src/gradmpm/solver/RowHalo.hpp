@@ -13,6 +13,7 @@
 // (Grid partition, step 2 in docs/parallel.md: the vectors are still as long as the
 // active grid; what a rank holds outside its own and ghost rows is not used.)
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -111,6 +112,20 @@ class RowHalo {
     double squares = v.segment(first(), last() - first()).squaredNorm();
     ranks::sum(&squares, 1);
     return std::sqrt(squares);
+  }
+
+  /// The 2-norms of several such vectors with one reduction (Newton's forces and residual).
+  template <std::size_t n>
+  std::array<double, n> norms(const std::array<const Vector*, n>& v) const {
+    std::array<double, n> result{};
+    if (!distributed()) {
+      for (std::size_t k = 0; k < n; ++k) result[k] = v[k]->norm();
+      return result;
+    }
+    for (std::size_t k = 0; k < n; ++k) result[k] = v[k]->segment(first(), last() - first()).squaredNorm();
+    ranks::sum(result.data(), n);
+    for (double& x : result) x = std::sqrt(x);
+    return result;
   }
 
   /// The whole vector on every rank from each rank's own rows (an all-gather: for the
