@@ -33,14 +33,13 @@ class HelmholtzSmoother {
                     bool shares = false)
       : assembler_(assembler),
         solver_(make_linear_solver(solver)),
-        shares_(shares),
         halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern)) : RowHalo()) {
     if (shares && !solver_->adds_shares())
       throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
-    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, shares, &halo_);
-    if (shares) solver_->describe(SystemDescription{1, nullptr, true, assembler.dofs().rank_rows(), &halo_});
+    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, &halo_);
+    if (shares) solver_->describe(SystemDescription{1, nullptr, true, &halo_});
     solver_->compute(A);
   }
   // The solver and the Dirichlet elimination keep the halo's address.
@@ -57,7 +56,7 @@ class HelmholtzSmoother {
   /// of field j (Assembler::load_columns; with shares, of this rank's points); one solve
   /// sweep serves all.
   Eigen::MatrixXd smooth_loads(Eigen::MatrixXd f) const {
-    for (Eigen::Index j = 0; shares_ && j < f.cols(); ++j) halo_.sum(f.col(j));  // own and ghost rows
+    for (Eigen::Index j = 0; j < f.cols(); ++j) halo_.sum(f.col(j));  // with shares: own and ghost rows
     return solver_->solve(f);
   }
 
@@ -72,7 +71,7 @@ class HelmholtzSmoother {
 
  private:
   Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
-    if (shares_) halo_.sum(f);  // this rank's points' load, summed in own and ghost rows
+    halo_.sum(f);  // with shares, this rank's points' load: summed in own and ghost rows
     if (!dirichlet_.dofs().empty()) dirichlet_.apply_to_rhs(f, dirichlet_values);
     return solver_->solve(f);
   }
@@ -80,8 +79,7 @@ class HelmholtzSmoother {
   const Assembler<dim>& assembler_;
   DirichletElimination dirichlet_;
   std::unique_ptr<LinearSolver> solver_;
-  bool shares_;
-  RowHalo halo_;  ///< shares: this rank's own and ghost rows
+  RowHalo halo_;  ///< with shares, this rank's own and ghost rows (else every row, no exchange)
 };
 
 }  // namespace gradmpm

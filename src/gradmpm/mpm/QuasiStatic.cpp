@@ -93,7 +93,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
   // terms), which the solver adds up by rows (PETSc): no sum of the whole matrix.
   const bool share = solvers.main->adds_shares();
   // Each rank reads the solution in its own and ghost rows only (step.halo()).
-  const SystemDescription description{dim, [&] { return step.node_coordinates(); }, share, step.dofs().rank_rows(),
+  const SystemDescription description{dim, [&] { return step.node_coordinates(); }, share,
                                       share ? &step.halo() : nullptr};
   if (!solvers.described) {
     solvers.main->describe(description);
@@ -163,7 +163,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     step.stiffness(K, share);  // only when another iteration follows
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
-    bc.apply_to_matrix(K, step.constrained(), share, &step.halo());
+    bc.apply_to_matrix(K, step.constrained(), &step.halo());
     const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
     bc.apply_to_rhs(r, prescribed);
     const auto correction = [&](const Vector& d) {

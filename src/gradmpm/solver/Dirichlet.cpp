@@ -8,11 +8,9 @@
 
 namespace gradmpm {
 
-void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share,
-                                           const RowHalo* halo) {
+void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, const RowHalo* halo) {
   dofs_ = dofs;
-  share_ = share;
-  halo_ = share && halo && halo->distributed() ? halo : nullptr;
+  halo_ = halo && halo->distributed() ? halo : nullptr;
   removed_.clear();
   std::vector<int> index(A.rows(), -1);  // constraint number of each dof, or -1
   for (std::size_t k = 0; k < dofs.size(); ++k) {
@@ -36,9 +34,8 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
     const Eigen::Index own = halo_->last() - halo_->first();
     if (own > 0) scale = diagonal.segment(halo_->first(), own).cwiseAbs().maxCoeff();
     ranks::max(&scale, 1);
-  } else {
-    if (share) ranks::sum(diagonal.data(), diagonal.size());  // the diagonal of the summed matrix
-    scale = diagonal.size() > 0 ? diagonal.cwiseAbs().maxCoeff() : 0.0;
+  } else if (diagonal.size() > 0) {
+    scale = diagonal.cwiseAbs().maxCoeff();
   }
   if (!(scale > 0.0)) scale = 1.0;
   scale_ = scale;
@@ -48,8 +45,7 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
       const int kc = index[col], kr = index[row];
       if (kc < 0 && kr < 0) continue;
       if (row == col) {
-        // In one share only: the row owner's with a halo, else rank 0's.
-        const bool mine = !share || (halo_ ? row >= halo_->first() && row < halo_->last() : ranks::rank() == 0);
+        const bool mine = !halo_ || (row >= halo_->first() && row < halo_->last());  // in one share only
         it.valueRef() = mine ? scale : 0.0;
         continue;
       }
@@ -67,13 +63,6 @@ void DirichletElimination::apply_to_rhs(Vector& b, const std::vector<double>& va
     for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
     halo_->sum(lift);
     b -= lift;
-  } else if (share_) {  // each rank's share of A_ic g_c, summed; none to sum for zero values (every rank alike)
-    if (std::any_of(values.begin(), values.end(), [](double v) { return v != 0.0; })) {
-      Vector lift = Vector::Zero(b.size());
-      for (const Entry& e : removed_) lift[e.row] += e.value * values[e.constraint];
-      ranks::sum(lift.data(), lift.size());
-      b -= lift;
-    }
   } else {
     for (const Entry& e : removed_) b[e.row] -= e.value * values[e.constraint];
   }

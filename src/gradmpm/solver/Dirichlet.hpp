@@ -13,15 +13,12 @@ namespace gradmpm {
 
 class DirichletElimination {
  public:
-  /// Eliminates `dofs` from A in place. A keeps its pattern and stays SPD. `share`: A is
-  /// this rank's share of a distributed run's matrix (the ranks' shares add up to it):
-  /// the scale is the summed matrix's, one share holds each constrained diagonal (rank
-  /// 0's; with a halo, the row owner's, whose share's pattern must have it), and the
-  /// lift of a right-hand side is summed over the ranks. `halo`: with `share`, the
-  /// ranks' rows (a load step's RowHalo): those sums go to the rows' owners and ghosts
-  /// only; without, over the whole vector.
-  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, bool share = false,
-                       const RowHalo* halo = nullptr);
+  /// Eliminates `dofs` from A in place. A keeps its pattern and stays SPD. `halo`: a
+  /// distributed run's rows (RowHalo), A being this rank's share of the matrix (the
+  /// ranks' shares add up to it): the scale is the summed matrix's, the share of each
+  /// constrained row's owner holds its diagonal (its pattern must have it), and the lift
+  /// of a right-hand side is summed in own and ghost rows. Null or serial: A is whole.
+  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, const RowHalo* halo = nullptr);
 
   /// Lifts b for the prescribed `values` (same order as the dofs given above); with a
   /// halo, b is lifted in this rank's own and ghost rows.
@@ -43,8 +40,7 @@ class DirichletElimination {
   };
   std::vector<int> dofs_;
   double scale_ = 1.0;          ///< the diagonal given to constrained equations
-  bool share_ = false;          ///< A was a rank's share (apply_to_matrix)
-  const RowHalo* halo_ = nullptr;
+  const RowHalo* halo_ = nullptr;  ///< A was a rank's share of a distributed run's matrix
   std::vector<Entry> removed_;  ///< A_ic for free rows i and constrained columns c
 };
 

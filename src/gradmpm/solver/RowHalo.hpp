@@ -80,22 +80,12 @@ class RowHalo {
   /// rank order: the same bits however the messages arrive); ghost rows keep this
   /// rank's part.
   void add_to_owners(Eigen::Ref<Vector> v) const {
-    if (!distributed()) return;
-    std::vector<double> send(ghosts_.size());
-    for (std::size_t k = 0; k < ghosts_.size(); ++k) send[k] = v[ghosts_[k]];
-    const std::vector<char> got = ranks::exchange(to_owners_, reinterpret_cast<const char*>(send.data()), sizeof(double));
-    const double* add = reinterpret_cast<const double*>(got.data());
-    for (std::size_t k = 0; k < requested_.size(); ++k) v[requested_[k]] += add[k];
+    send(v, ghosts_, to_owners_, requested_, [](double& row, double value) { row += value; });
   }
 
   /// Ghost rows get their owners' values.
   void fetch_ghosts(Eigen::Ref<Vector> v) const {
-    if (!distributed()) return;
-    std::vector<double> send(requested_.size());
-    for (std::size_t k = 0; k < requested_.size(); ++k) send[k] = v[requested_[k]];
-    const std::vector<char> got = ranks::exchange(to_ghosts_, reinterpret_cast<const char*>(send.data()), sizeof(double));
-    const double* value = reinterpret_cast<const double*>(got.data());
-    for (std::size_t k = 0; k < ghosts_.size(); ++k) v[ghosts_[k]] = value[k];
+    send(v, requested_, to_ghosts_, ghosts_, [](double& row, double value) { row = value; });
   }
 
   /// The sum over the ranks of each rank's partial vector, right in this rank's own and
@@ -105,16 +95,8 @@ class RowHalo {
     fetch_ghosts(v);
   }
 
-  /// The 2-norm of a vector that is right in every rank's own rows (the same bits on
-  /// every rank). Serially Eigen's norm.
-  double norm(const Vector& v) const {
-    if (!distributed()) return v.norm();
-    double squares = v.segment(first(), last() - first()).squaredNorm();
-    ranks::sum(&squares, 1);
-    return std::sqrt(squares);
-  }
-
-  /// The 2-norms of several such vectors with one reduction (Newton's forces and residual).
+  /// The 2-norms of vectors that are right in every rank's own rows, with one reduction
+  /// (the same bits on every rank; serially Eigen's norms).
   template <std::size_t n>
   std::array<double, n> norms(const std::array<const Vector*, n>& v) const {
     std::array<double, n> result{};
@@ -140,6 +122,19 @@ class RowHalo {
   }
 
  private:
+  /// v's rows `from` to the neighbours `to` (grouped as they expect), where each received
+  /// value is put into v's row of `into` by `put`.
+  template <class Put>
+  void send(Eigen::Ref<Vector> v, const std::vector<int>& from, const ranks::Neighbours& to,
+            const std::vector<int>& into, Put put) const {
+    if (!distributed()) return;
+    std::vector<double> values(from.size());
+    for (std::size_t k = 0; k < from.size(); ++k) values[k] = v[from[k]];
+    const std::vector<char> got = ranks::exchange(to, reinterpret_cast<const char*>(values.data()), sizeof(double));
+    const double* value = reinterpret_cast<const double*>(got.data());
+    for (std::size_t k = 0; k < into.size(); ++k) put(v[into[k]], value[k]);
+  }
+
   int owner(int row) const {
     return static_cast<int>(std::upper_bound(rank_rows_.begin(), rank_rows_.end(), row) - rank_rows_.begin()) - 1;
   }

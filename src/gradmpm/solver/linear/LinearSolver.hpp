@@ -33,15 +33,12 @@ struct SystemDescription {
   /// its share (its points' contributions, with its points' pattern only) and the solver
   /// adds the shares up. Only a solver that adds_shares() may be told so.
   bool shares = false;
-  /// A distributed run's rows by rank: rank r owns rows [rank_rows[r], rank_rows[r + 1])
-  /// (DofMap::rank_rows: the nodes of its cells, so that its share falls in its own rows
-  /// but for the nodes its points reach across the cut). Empty: the solver splits the
-  /// rows evenly by nodes.
-  std::vector<int> rank_rows;
-  /// With shares and rank_rows: the caller reads the solution only in its own rows and
-  /// ghost rows (this halo's, made for the same rank_rows), so the solver fetches those
-  /// from their owners instead of gathering the whole solution on every rank. Null: the
-  /// whole solution on every rank.
+  /// With shares, a distributed run's rows (RowHalo): rank r owns rows
+  /// [halo->rank_rows()[r], halo->rank_rows()[r + 1]) (DofMap::rank_rows: the nodes of
+  /// its cells, so that its share falls in its own rows but for its ghost rows), and the
+  /// caller reads the solution in its own and ghost rows only, so the solver fetches the
+  /// ghost rows from their owners instead of gathering the whole solution on every rank.
+  /// Null: rows split evenly by nodes, the whole solution on every rank.
   const RowHalo* halo = nullptr;
 };
 

@@ -204,8 +204,7 @@ class Petsc final : public LinearSolver {
     }
     const PetscScalar* xv = nullptr;
     check(VecGetArrayRead(x_, &xv), "VecGetArrayRead");
-    const RowHalo* halo = description_.halo;
-    if (distributed_ && description_.shares && halo) {  // this rank's rows, then its ghost rows from their owners
+    if (const RowHalo* halo = rows_halo()) {  // this rank's rows, then its ghost rows from their owners
       Vector x = Vector::Zero(b.size());
       std::copy(xv, xv + (last_ - first_), x.data() + first_);
       check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
@@ -385,17 +384,21 @@ class Petsc final : public LinearSolver {
     check(KSPSetFromOptions(ksp_), "reading linear_solver.options (KSPSetFromOptions)");
   }
 
-  /// Distributed: rank r owns a contiguous range of rows, description_.rank_rows (the
-  /// nodes of its cells) where given, else an even range of nodes.
+  /// Distributed: rank r owns a contiguous range of rows, the halo's (the nodes of its
+  /// cells) where given, else an even range of nodes.
   MPI_Comm comm() const { return distributed_ ? PETSC_COMM_WORLD : PETSC_COMM_SELF; }
+  /// The halo whose rows the system follows and whose ghost rows a solve fetches (a
+  /// distributed run's shares); null: an even split, the whole solution on every rank.
+  const RowHalo* rows_halo() const {
+    const RowHalo* halo = description_.halo;
+    return distributed_ && description_.shares && halo && halo->distributed() ? halo : nullptr;
+  }
   void split_rows(PetscInt n, int bs) {
     const int size = distributed_ ? ranks::size() : 1, rank = distributed_ ? ranks::rank() : 0;
     const PetscInt nodes = n / bs;
     row_counts_.assign(size, 0);
-    const auto& given = description_.rank_rows;
-    if (distributed_ && description_.halo && description_.halo->rank_rows() != given)
-      throw std::logic_error("PETSc: a halo made for other rows than the system's");
-    if (distributed_ && !given.empty()) {
+    if (const RowHalo* halo = rows_halo()) {
+      const auto& given = halo->rank_rows();
       const bool fits = static_cast<int>(given.size()) == size + 1 && given.front() == 0 && given.back() == n &&
                         std::is_sorted(given.begin(), given.end()) &&
                         std::all_of(given.begin(), given.end(), [&](int row) { return row % bs == 0; });
