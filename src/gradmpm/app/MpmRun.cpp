@@ -75,19 +75,20 @@ Series get_series(const Archive& a, const std::string& name) {
   return s;
 }
 
-/// A distributed run's points at one step: each rank writes the piece
-/// points_NNNN_R.vtu, the points it owns, into `folder`; returns the pieces' names once
-/// every rank has written its own. A rank that cannot write its piece stops every rank.
-template <int dim>
-std::vector<std::string> write_vtu_pieces(const fs::path& folder, int step, const PointColumns<dim>& table,
-                                          const std::vector<std::string>& names) {
+/// A distributed run's pieces of one step: each rank writes STEM_NNNN_R.vtu for each
+/// (STEM, its piece's text) of `mine` (its points, its cells of the grid) into `folder`;
+/// returns, for each stem, every rank's piece names once every rank has written its own.
+/// A rank that cannot write its pieces stops every rank.
+std::vector<std::vector<std::string>> write_vtu_pieces(const fs::path& folder, int step,
+                                                       const std::vector<std::pair<std::string, std::string>>& mine) {
   const int size = ranks::size(), rank = ranks::rank();
-  std::vector<std::string> pieces;
-  for (int r = 0; r < size; ++r) pieces.push_back(fmt::format("points_{:04d}_{}.vtu", step, r));
+  std::vector<std::vector<std::string>> pieces(mine.size());
+  for (std::size_t k = 0; k < mine.size(); ++k)
+    for (int r = 0; r < size; ++r) pieces[k].push_back(fmt::format("{}_{:04d}_{}.vtu", mine[k].first, step, r));
   std::string problem;
   try {
     StagedOutputs out(folder);
-    out.write_text(pieces[rank], table.vtu(names));
+    for (std::size_t k = 0; k < mine.size(); ++k) out.write_text(pieces[k][rank], mine[k].second);
     out.commit();
   } catch (const OutputError& e) {
     problem = fmt::format("rank {}: {}", rank, e.what());
@@ -175,17 +176,21 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const std::vector<std::string> tracked_columns = tracked_table.with_state(kTrackedColumns);
   std::string tracked = "step,load_factor," + join(tracked_table.csv_header(tracked_columns)) + "\n";
   auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
-    const std::string gf = fmt::format("grid_{:04d}.vtu", step);
     const PointColumns<dim> table(m, gradient_step.fields());
     const std::vector<std::string> names = vtu_point_columns(table);
+    const std::vector<VtkField> grid_fields = grid_vtk_fields(m, info);  // (collective)
+    // A distributed run: each rank its piece of each (its points, its cells of the grid),
+    // and rank 0 the .pvtu files naming them.
     const bool in_pieces = ranks::distributed();
     const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
-    const std::vector<std::string> pieces =
-        in_pieces ? write_vtu_pieces(options.pieces, step, table, names) : std::vector<std::string>{};
+    const std::string gf = fmt::format("grid_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
+    const auto pieces =
+        in_pieces ? write_vtu_pieces(options.pieces, step, {{"points", table.vtu(names)}, {"grid", grid_vtu(m, grid_fields)}})
+                  : std::vector<std::vector<std::string>>{};
     if (!writes) return;  // rank 0 writes the rest
     StagedOutputs out(dir);
-    out.write_text(pf, in_pieces ? pvtu_points(table.vtk_layout(names), pieces) : table.vtu(names));
-    out.write_text(gf, grid_vtu(m, info));
+    out.write_text(pf, in_pieces ? pvtu(table.vtk_layout(names), pieces[0]) : table.vtu(names));
+    out.write_text(gf, in_pieces ? pvtu(grid_fields, pieces[1]) : grid_vtu(m, grid_fields));
     pvd_points.emplace_back(lambda, pf);
     pvd_grid.emplace_back(lambda, gf);
     out.write_text("points.pvd", pvd(pvd_points));
@@ -210,22 +215,37 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
                      rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
     };
     if (!m.node_sets.empty()) {
+      // Per set: the reactions and increments summed over its active nodes, and their
+      // count. A distributed run's ranks sum the nodes they own (the fields are right
+      // there), then the sums are added over the ranks: nothing is gathered whole.
       const Vector R = info.grid_reaction(), du = info.grid_displacement();
       const std::vector<bool> solved = info.grid_active();
+      const bool split = !m.rank_cells.empty();
+      const int first = split ? m.rank_cells[ranks::rank()] : 0;
+      const int last = split ? m.rank_cells[ranks::rank() + 1] : m.grid.num_nodes();
+      constexpr int per_set = 2 * dim + 1;  // r, sum of du, active nodes
+      std::vector<double> sums(m.node_sets.size() * per_set, 0.0);
       for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
-        const auto& set = m.node_sets[b];
-        Vec<dim> r = Vec<dim>::Zero(), mean = Vec<dim>::Zero();
-        int active = 0;  // the mean displacement is over the nodes the step solved for
-        for (int n : set.nodes) {
-          if (!solved[n]) continue;
-          ++active;
+        double* s = &sums[b * per_set];
+        for (int n : m.node_sets[b].nodes) {
+          if (!solved[n] || n < first || n >= last) continue;
+          s[2 * dim] += 1.0;  // the mean displacement is over the nodes the step solved for
           for (int d = 0; d < dim; ++d) {
-            r[d] += R[n * dim + d];
-            mean[d] += du[n * dim + d];
+            s[d] += R[n * dim + d];
+            s[dim + d] += du[n * dim + d];
           }
         }
-        if (active > 0) block_u[b] += mean / static_cast<double>(active);
-        row(set.name, r, block_u[b]);
+      }
+      if (split) ranks::sum(sums.data(), static_cast<int>(sums.size()));
+      for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
+        const double* s = &sums[b * per_set];
+        Vec<dim> r, mean;
+        for (int d = 0; d < dim; ++d) {
+          r[d] = s[d];
+          mean[d] = s[dim + d];
+        }
+        if (s[2 * dim] > 0.0) block_u[b] += mean / s[2 * dim];
+        row(m.node_sets[b].name, r, block_u[b]);
       }
     }
     // Rigid boxes: the force each exerts on the body, and its displacement.

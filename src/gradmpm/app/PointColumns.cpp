@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/io/Vtk.hpp"
 
@@ -207,7 +208,7 @@ std::vector<std::string> vtu_point_columns(const PointColumns<dim>& table) {
 }
 
 template <int dim>
-std::string grid_vtu(const Model<dim>& m, const StepInfo* info) {
+std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info) {
   const int nn = m.grid.num_nodes();
   VtkField du{"displacement_increment", 3, std::vector<double>(3 * static_cast<std::size_t>(nn), 0.0)},
       mass{"mass", 1, std::vector<double>(nn, 0.0)};
@@ -218,7 +219,13 @@ std::string grid_vtu(const Model<dim>& m, const StepInfo* info) {
       mass.values[n] = nodal_mass[n];
     }
   }
-  return vtu_grid<dim>(m.grid, {du, mass});
+  return {du, mass};
+}
+
+template <int dim>
+std::string grid_vtu(const Model<dim>& m, const std::vector<VtkField>& fields) {
+  if (m.rank_cells.empty()) return vtu_grid<dim>(m.grid, fields);
+  return vtu_grid<dim>(m.grid, fields, m.rank_cells[ranks::rank()], m.rank_cells[ranks::rank() + 1]);
 }
 
 template class PointColumns<1>;
@@ -227,8 +234,11 @@ template class PointColumns<3>;
 template std::vector<std::string> vtu_point_columns<1>(const PointColumns<1>&);
 template std::vector<std::string> vtu_point_columns<2>(const PointColumns<2>&);
 template std::vector<std::string> vtu_point_columns<3>(const PointColumns<3>&);
-template std::string grid_vtu<1>(const Model<1>&, const StepInfo*);
-template std::string grid_vtu<2>(const Model<2>&, const StepInfo*);
-template std::string grid_vtu<3>(const Model<3>&, const StepInfo*);
+template std::vector<VtkField> grid_vtk_fields<1>(const Model<1>&, const StepInfo*);
+template std::string grid_vtu<1>(const Model<1>&, const std::vector<VtkField>&);
+template std::vector<VtkField> grid_vtk_fields<2>(const Model<2>&, const StepInfo*);
+template std::string grid_vtu<2>(const Model<2>&, const std::vector<VtkField>&);
+template std::vector<VtkField> grid_vtk_fields<3>(const Model<3>&, const StepInfo*);
+template std::string grid_vtu<3>(const Model<3>&, const std::vector<VtkField>&);
 
 }  // namespace gradmpm

@@ -64,8 +64,15 @@ class PointColumns {
 template <int dim>
 std::vector<std::string> vtu_point_columns(const PointColumns<dim>& table);
 
-/// grid_NNNN.vtu: the step's displacement increment and nodal mass (zero without a step).
+/// grid_NNNN.vtu: the step's displacement increment and nodal mass (zero without a step)
+/// at every grid node (a distributed run's: right at the corners of the rank's cells; a
+/// collective call then, as StepInfo's grid fields are).
 template <int dim>
-std::string grid_vtu(const Model<dim>& m, const StepInfo* info);
+std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info);
+
+/// The grid's VTU of `fields` (grid_vtk_fields): every cell, or a distributed run's
+/// piece, the rank's cells (Model::rank_cells).
+template <int dim>
+std::string grid_vtu(const Model<dim>& m, const std::vector<VtkField>& fields);
 
 }  // namespace gradmpm

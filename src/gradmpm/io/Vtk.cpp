@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iterator>
 #include <stdexcept>
 
@@ -66,24 +67,19 @@ std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkFiel
 }
 
 template <int dim>
-std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields) {
-  std::vector<double> xyz;
-  for (int n = 0; n < grid.num_nodes(); ++n) {
-    const Vec<dim> x = grid.node_position(n);
-    for (int d = 0; d < 3; ++d) xyz.push_back(d < dim ? x[d] : 0.0);
-  }
-  // Corners in VTK order: line (0,1); quad (00,10,11,01); hexahedron bottom then top face.
+std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields, int first_key, int last_key) {
+  if (last_key < 0) last_key = grid.num_nodes();
+  // The cells whose lower-corner node lies in [first_key, last_key), in that order, and
+  // their corners in VTK order: line (0,1); quad (00,10,11,01); hexahedron bottom then top.
   static constexpr int order[3][8] = {{0, 1}, {0, 1, 3, 2}, {0, 1, 3, 2, 4, 5, 7, 6}};
   constexpr int corners = 1 << dim;
-  std::vector<long> conn;
-  typename Grid<dim>::Index c{};
   const auto& nc = grid.cells();
-  for (int cell = 0; cell < grid.num_cells(); ++cell) {
-    int r = cell;
-    for (int d = 0; d < dim; ++d) {
-      c[d] = r % nc[d];
-      r /= nc[d];
-    }
+  std::vector<long> conn;
+  for (int key = first_key; key < last_key; ++key) {
+    const typename Grid<dim>::Index c = grid.node_ijk(key);
+    bool cell = true;  // a node on the grid's upper faces is no cell's lower corner
+    for (int d = 0; d < dim; ++d) cell = cell && c[d] < nc[d];
+    if (!cell) continue;
     for (int k = 0; k < corners; ++k) {
       const int bits = order[dim - 1][k];
       typename Grid<dim>::Index ijk;
@@ -91,20 +87,40 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields)
       conn.push_back(grid.node_index(ijk));
     }
   }
+  // The piece's points: the corners, ascending (the whole grid: every node, in order).
+  std::vector<long> nodes(conn);
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  for (long& n : conn) n = std::lower_bound(nodes.begin(), nodes.end(), n) - nodes.begin();
+  std::vector<double> xyz;
+  for (const long n : nodes) {
+    const Vec<dim> x = grid.node_position(static_cast<int>(n));
+    for (int d = 0; d < 3; ++d) xyz.push_back(d < dim ? x[d] : 0.0);
+  }
+  std::vector<VtkField> at_nodes;
+  for (const auto& f : fields) {
+    if (f.values.size() != static_cast<std::size_t>(grid.num_nodes()) * f.components)
+      throw std::logic_error("VTK grid field " + f.name + " needs values at every grid node");
+    VtkField g{f.name, f.components, {}, f.integer};
+    g.values.reserve(nodes.size() * f.components);
+    for (const long n : nodes)
+      for (int k = 0; k < f.components; ++k) g.values.push_back(f.values[n * f.components + k]);
+    at_nodes.push_back(std::move(g));
+  }
   std::string s;
-  header(s, grid.num_nodes(), grid.num_cells());
+  header(s, nodes.size(), conn.size() / corners);
   coordinates(s, xyz);
   cells(s, conn, corners, dim == 1 ? 3 : (dim == 2 ? 9 : 12));
-  point_data(s, fields, grid.num_nodes());
+  point_data(s, at_nodes, nodes.size());
   footer(s);
   return s;
 }
 
-template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&);
-template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&);
-template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&);
+template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&, int, int);
+template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&, int, int);
+template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&, int, int);
 
-std::string pvtu_points(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces) {
+std::string pvtu(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces) {
   std::string s =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
       "header_type=\"UInt64\">\n<PUnstructuredGrid GhostLevel=\"0\">\n<PPointData>\n";

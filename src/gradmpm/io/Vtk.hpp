@@ -20,14 +20,18 @@ struct VtkField {
 /// Points as VTK_VERTEX cells; `xyz` has 3 coordinates per point.
 std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkField>& fields);
 
-/// The whole background grid; `fields` are nodal (PointData).
+/// The background grid's cells whose lower-corner node lies in [first_key, last_key)
+/// (a distributed run's piece: Model::rank_cells; by default every cell) with their
+/// corners, ascending, as the piece's points. `fields` are nodal (PointData), given at
+/// every grid node; the piece takes its corners' values.
 template <int dim>
-std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields);
+std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields, int first_key = 0,
+                     int last_key = -1);
 
-/// A parallel file (.pvtu) of point pieces written by vtu_points, one per rank: the
-/// fields' names, components and types (`layout`; values unused) and the pieces' file
-/// names relative to the .pvtu.
-std::string pvtu_points(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces);
+/// A parallel file (.pvtu) of pieces written by vtu_points or vtu_grid, one per rank:
+/// the fields' names, components and types (`layout`; values unused) and the pieces'
+/// file names relative to the .pvtu.
+std::string pvtu(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces);
 
 /// A collection: (load factor, file name relative to the .pvd).
 std::string pvd(const std::vector<std::pair<double, std::string>>& entries);

@@ -84,9 +84,11 @@ class LoadStep {
     if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(pattern_));
     f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
     halo_.sum(f_ext_);  // every rank's points' share, in own and ghost rows
-    if (split_) {  // the nodal masses of every rank's points (the outputs ask for them on rank 0 only)
-      mass_ = nodal_mass(st_, m.points, m.grid.num_nodes());
-      ranks::sum(mass_.data(), mass_.size());
+    if (split_) {  // this rank's points' nodal masses, in the first component's rows (grid_fields)
+      const Vector mass = nodal_mass(st_, m.points, m.grid.num_nodes());
+      mass_ = Vector::Zero(dofs_.num_dofs());
+      for (int n = 0; n < m.grid.num_nodes(); ++n)
+        if (dofs_.active(n)) mass_[dofs_.dof(n, 0)] = mass[n];
     }
   }
 
@@ -99,9 +101,6 @@ class LoadStep {
   std::array<double, 3> norms(const Vector& f_int, const Vector& r) const {
     return halo_.norms<3>({&f_ext_, &f_int, &r});
   }
-  /// A converged increment (right in own and ghost rows) whole on every rank, for the
-  /// step's outputs.
-  Vector whole(const Vector& v) const { return halo_.whole(v); }
   /// The external force (a distributed run's: right in own and ghost rows).
   const Vector& f_ext() const { return f_ext_; }
   const std::vector<int>& constrained() const { return constrained_; }
@@ -287,17 +286,39 @@ class LoadStep {
     std::vector<double>().swap(weights_);
   }
 
-  /// At a converged iterate: keeps the reactions f_int - f_ext (a distributed run's whole,
-  /// from the rows' owners); a distributed run sums the boxes' contact forces over the ranks.
+  /// At a converged iterate: keeps the reactions f_int - f_ext (a distributed run's right
+  /// in own and ghost rows); a distributed run sums the boxes' contact forces over the ranks.
   void converged(const Vector& f_int) {
-    reaction_ = halo_.whole(f_int - f_ext_);
+    reaction_ = f_int - f_ext_;
     if (split_ && contact_) contact_->sum_forces_over_ranks();
   }
 
-  /// A vector in equation numbering at every grid node (dim values per node; zero on
-  /// inactive nodes): the increment du, or the reactions f_int - f_ext.
-  Vector on_grid(const Vector& v) const { return dofs_.to_grid_all(v); }
-  Vector grid_reaction() const { return on_grid(reaction_); }
+  /// The step's grid fields for the outputs, at every grid node.
+  struct GridFields {
+    Vector displacement;  ///< the increment du, dim per node (zero on inactive nodes)
+    Vector reaction;      ///< f_int - f_ext at the converged iterate, dim per node
+    Vector mass;          ///< sum_p N_i m_p (eq. 1), one per node
+  };
+  /// `du`: the converged increment (a distributed run's right in own and ghost rows).
+  /// Serially right at every node. A distributed run's are right at the nodes this rank
+  /// owns (Model::rank_cells) and at the corners of its cells (its piece of the grid's
+  /// VTU), and not used elsewhere: the masses are summed in own and ghost rows, then the
+  /// corners' rows that other ranks own are fetched from them (a neighbour exchange, no
+  /// whole-grid gather; a corner of an empty cell may be in no point's stencil of this
+  /// rank). A collective call in a distributed run.
+  GridFields grid_fields(const Vector& du) const {
+    const int nn = model_.grid.num_nodes();
+    if (!split_) return {dofs_.to_grid_all(du), dofs_.to_grid_all(reaction_), nodal_mass(st_, model_.points, nn)};
+    Vector mass = mass_;  // (the points may have moved to other ranks since: their masses as the step began)
+    halo_.sum(mass);
+    Vector displacement = du, reaction = reaction_;
+    const RowHalo piece(dofs_.rank_rows(), piece_rows());
+    for (Vector* v : {&displacement, &reaction, &mass}) piece.fetch_ghosts(*v);
+    GridFields out{dofs_.to_grid_all(displacement), dofs_.to_grid_all(reaction), Vector::Zero(nn)};
+    for (int n = 0; n < nn; ++n)
+      if (dofs_.active(n)) out.mass[n] = mass[dofs_.dof(n, 0)];
+    return out;
+  }
   /// The force of each rigid box on the body at the converged iterate (dim per box).
   Vector rigid_forces() const {
     Vector f = Vector::Zero(static_cast<Eigen::Index>(model_.rigid_boxes.size()) * dim);
@@ -306,10 +327,29 @@ class LoadStep {
     return f;
   }
 
-  /// Nodal mass sum_p N_i m_p at every grid node.
-  Vector grid_mass() const { return split_ ? mass_ : nodal_mass(st_, model_.points, model_.grid.num_nodes()); }
-
  private:
+  /// A distributed run's: the rows of the active corners of this rank's cells, ascending.
+  std::vector<int> piece_rows() const {
+    const auto& grid = model_.grid;
+    const auto& nc = grid.cells();
+    std::vector<int> rows;
+    for (int key = model_.rank_cells[ranks::rank()]; key < model_.rank_cells[ranks::rank() + 1]; ++key) {
+      const auto c = grid.node_ijk(key);
+      bool cell = true;  // a node on the grid's upper faces is no cell's lower corner
+      for (int d = 0; d < dim; ++d) cell = cell && c[d] < nc[d];
+      for (int k = 0; cell && k < (1 << dim); ++k) {
+        auto ijk = c;
+        for (int d = 0; d < dim; ++d) ijk[d] += (k >> d) & 1;
+        const int n = grid.node_index(ijk);
+        if (dofs_.active(n))
+          for (int i = 0; i < dim; ++i) rows.push_back(dofs_.dof(n, i));
+      }
+    }
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    return rows;
+  }
+
   /// The couplings of the tangent: each point's stencil (with F-bar, each cell's points'
   /// stencils together) and each ghost face's nodes. In a distributed run, those of this
   /// rank's share (stiffness()): its points' (its cells'), its ghost faces' (GhostFaces:
@@ -431,12 +471,12 @@ class LoadStep {
   std::vector<int> constrained_;
   std::vector<double> increments_;
   Vector f_ext_;
-  Vector mass_;  ///< distributed: the nodal masses of every rank's points
   /// Written by every internal_force() before it is read: not zeroed when made (2e5
   /// points: 40 MB, 4 ms of a load step's set-up).
   std::vector<MaterialResponse, DefaultInitAllocator<MaterialResponse>> response_;
   std::vector<double> trial_state_;  ///< the state block of the current iterate
   Vector reaction_;                  ///< f_int - f_ext at the converged iterate
+  Vector mass_;  ///< distributed: this rank's points' nodal masses in the first component's rows
   /// The gradients of the points' shape functions in the configuration their stress lives
   /// in, and their weights.
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Parallel.hpp"
@@ -153,7 +154,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     const bool stalled = it >= 3 && absolute < 10.0 * floor && absolute > 0.5 * absolute_residuals[it - 2];
     if (err < settings.tolerance || (it > 0 && absolute < floor) || stalled) {
       step.converged(f_int);
-      return step.whole(du);  // (a distributed run's: right in own and ghost rows until here)
+      return du;  // (a distributed run's: right in own and ghost rows)
     }
     if (it == settings.max_iterations)
       throw StepFailure{fmt::format("no convergence in {} iterations (residual {:.3e})", it, err)};
@@ -371,9 +372,14 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.increment = dlambda;
     info.seconds = seconds_since(t0);
     info.last = lambda >= 1.0;
-    info.grid_displacement = [&] { return step->on_grid(du); };
-    info.grid_reaction = [&] { return step->grid_reaction(); };
-    info.grid_mass = [&] { return step->grid_mass(); };
+    std::optional<typename LoadStep<dim>::GridFields> grid;  // made on the first call (collective)
+    const auto fields = [&]() -> const typename LoadStep<dim>::GridFields& {
+      if (!grid) grid = step->grid_fields(du);
+      return *grid;
+    };
+    info.grid_displacement = [&] { return fields().displacement; };
+    info.grid_reaction = [&] { return fields().reaction; };
+    info.grid_mass = [&] { return fields().mass; };
     info.grid_active = [&] {
       std::vector<bool> active(model.grid.num_nodes());
       for (int n = 0; n < model.grid.num_nodes(); ++n) active[n] = step->dofs().active(n);

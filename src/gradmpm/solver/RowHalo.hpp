@@ -110,17 +110,6 @@ class RowHalo {
     return result;
   }
 
-  /// The whole vector on every rank from each rank's own rows (an all-gather: for the
-  /// step's outputs, once per converged step).
-  Vector whole(const Vector& v) const {
-    if (!distributed()) return v;
-    std::vector<int> counts(ranks::size());
-    for (int r = 0; r < ranks::size(); ++r) counts[r] = rank_rows_[r + 1] - rank_rows_[r];
-    Vector all(v.size());
-    ranks::all_gather_rows(v.data() + first(), counts, all.data());
-    return all;
-  }
-
  private:
   /// v's rows `from` to the neighbours `to` (grouped as they expect), where each received
   /// value is put into v's row of `into` by `put`.
