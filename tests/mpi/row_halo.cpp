@@ -1,8 +1,8 @@
 // Requirement (issue 14, grid partition step 2, docs/parallel.md): on any number of
 // ranks, RowHalo's neighbour exchanges give each rank what a sum of the whole vector over
 // the ranks gave, in every row it owns or reads (its ghost rows), the same bits on every
-// rank that holds a row; its norms (several with one reduction) are the whole summed
-// vectors' norms. Run: mpirun -n N row_halo_check (exit 0: every check held).
+// rank that holds a row, for one vector or several columns at once; its norms (several
+// with one reduction) are the whole summed vectors' norms. Run: mpirun -n N row_halo_check (exit 0: every check held).
 // Each rank touches a random set of rows spread over the whole vector (far more ghosts
 // than a load step has, and ranks that touch none of some owner's rows), with values
 // that make every sum exact in floating point (small integers).
@@ -52,11 +52,24 @@ int main(int argc, char** argv) {
   const auto both = halo.norms<2>({&w, &twice});  // one reduction for several vectors
   if (std::abs(both[0] - expected) > 1e-14 * expected) fail("norms[0]", -1, both[0], expected);
   if (std::abs(both[1] - 2.0 * expected) > 1e-14 * expected) fail("norms[1]", -1, both[1], 2.0 * expected);
+  // Several columns at once (the gradient step's fields): column j is (j + 1) times the
+  // vector, and sum gives each column's sum, the same bits as column by column.
+  Eigen::MatrixXd columns(n, 3);
+  for (int j = 0; j < 3; ++j) columns.col(j) = (j + 1.0) * v;
+  halo.sum(columns);
+  for (const int row : touched)
+    for (int j = 0; j < 3; ++j)
+      if (columns(row, j) != (j + 1.0) * summed[row]) fail("sum of columns", row, columns(row, j), (j + 1.0) * summed[row]);
+  Eigen::MatrixXd fetched = Eigen::MatrixXd::Zero(n, 2);
+  for (int row = rank_rows[me]; row < rank_rows[me + 1]; ++row) fetched.row(row) << row, -row;
+  halo.fetch_ghosts(fetched);
+  for (const int row : touched)
+    if (fetched(row, 0) != row || fetched(row, 1) != -row) fail("fetch_ghosts of columns", row, fetched(row, 0), row);
   long long ghosts = static_cast<long long>(halo.ghost_rows());
   if (size > 1 && ghosts == 0) fail("no ghost rows", -1, 0, 1);
   int failed = failures;
   ranks::max(&failed, 1);
   if (me == 0)
-    std::printf("%d ranks, %lld ghost rows on rank 0: %s\n", size, ghosts, failed ? "FAILED" : "sums and norms as over the whole vector");
+    std::printf("%d ranks, %lld ghost rows on rank 0: %s\n", size, ghosts, failed ? "FAILED" : "sums, fetches and norms as over the whole vector");
   return failed ? 1 : 0;
 }

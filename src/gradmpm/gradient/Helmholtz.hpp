@@ -56,7 +56,7 @@ class HelmholtzSmoother {
   /// of field j (Assembler::load_columns; with shares, of this rank's points); one solve
   /// sweep serves all.
   Eigen::MatrixXd smooth_loads(Eigen::MatrixXd f) const {
-    for (Eigen::Index j = 0; j < f.cols(); ++j) halo_.sum(f.col(j));  // with shares: own and ghost rows
+    halo_.sum(f);  // with shares: own and ghost rows (every column with one exchange)
     return solver_->solve(f);
   }
 

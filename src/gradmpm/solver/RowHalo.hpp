@@ -79,20 +79,24 @@ class RowHalo {
   /// The owners' rows get the sum over the ranks (their own value plus the ghosts' in
   /// rank order: the same bits however the messages arrive); ghost rows keep this
   /// rank's part.
-  void add_to_owners(Eigen::Ref<Vector> v) const {
-    send(v, ghosts_, to_owners_, requested_, [](double& row, double value) { row += value; });
-  }
+  void add_to_owners(Eigen::Ref<Vector> v) const { send(v.data(), v.size(), 1, ghosts_, to_owners_, requested_, add); }
 
   /// Ghost rows get their owners' values.
-  void fetch_ghosts(Eigen::Ref<Vector> v) const {
-    send(v, requested_, to_ghosts_, ghosts_, [](double& row, double value) { row = value; });
-  }
+  void fetch_ghosts(Eigen::Ref<Vector> v) const { send(v.data(), v.size(), 1, requested_, to_ghosts_, ghosts_, put); }
 
   /// The sum over the ranks of each rank's partial vector, right in this rank's own and
   /// ghost rows (what a whole-vector sum gave, where it is read).
   void sum(Eigen::Ref<Vector> v) const {
     add_to_owners(v);
     fetch_ghosts(v);
+  }
+
+  /// The same for every column of V at once (several fields or right-hand sides: one
+  /// message to each neighbour, not one per column; the same bits as column by column).
+  void fetch_ghosts(Eigen::MatrixXd& V) const { send(V.data(), V.rows(), V.cols(), requested_, to_ghosts_, ghosts_, put); }
+  void sum(Eigen::MatrixXd& V) const {
+    send(V.data(), V.rows(), V.cols(), ghosts_, to_owners_, requested_, add);
+    fetch_ghosts(V);
   }
 
   /// The 2-norms of vectors that are right in every rank's own rows, with one reduction
@@ -111,17 +115,22 @@ class RowHalo {
   }
 
  private:
-  /// v's rows `from` to the neighbours `to` (grouped as they expect), where each received
-  /// value is put into v's row of `into` by `put`.
-  template <class Put>
-  void send(Eigen::Ref<Vector> v, const std::vector<int>& from, const ranks::Neighbours& to,
-            const std::vector<int>& into, Put put) const {
+  static void add(double& row, double value) { row += value; }
+  static void put(double& row, double value) { row = value; }
+
+  /// The rows `from` of the `cols` columns of v (column-major, `ld` rows) to the
+  /// neighbours `to` (grouped as they expect), where each received row is put into v's
+  /// row of `into` by `apply`.
+  void send(double* v, Eigen::Index ld, Eigen::Index cols, const std::vector<int>& from, const ranks::Neighbours& to,
+            const std::vector<int>& into, void (*apply)(double&, double)) const {
     if (!distributed()) return;
-    std::vector<double> values(from.size());
-    for (std::size_t k = 0; k < from.size(); ++k) values[k] = v[from[k]];
-    const std::vector<char> got = ranks::exchange(to, reinterpret_cast<const char*>(values.data()), sizeof(double));
+    std::vector<double> values(from.size() * cols);
+    for (std::size_t k = 0; k < from.size(); ++k)
+      for (Eigen::Index j = 0; j < cols; ++j) values[k * cols + j] = v[from[k] + j * ld];
+    const std::vector<char> got = ranks::exchange(to, reinterpret_cast<const char*>(values.data()), cols * sizeof(double));
     const double* value = reinterpret_cast<const double*>(got.data());
-    for (std::size_t k = 0; k < into.size(); ++k) put(v[into[k]], value[k]);
+    for (std::size_t k = 0; k < into.size(); ++k)
+      for (Eigen::Index j = 0; j < cols; ++j) apply(v[into[k] + j * ld], value[k * cols + j]);
   }
 
   int owner(int row) const {

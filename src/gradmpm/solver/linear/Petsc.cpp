@@ -175,35 +175,7 @@ class Petsc final : public LinearSolver {
   }
 
   Vector do_solve(const Vector& b) const override {
-    if (!user_rtol_) check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
-    PetscScalar* v = nullptr;
-    check(VecGetArray(b_, &v), "VecGetArray");
-    std::copy(b.data() + first_, b.data() + last_, v);
-    check(VecRestoreArray(b_, &v), "VecRestoreArray");
-    check(KSPSolve(ksp_, b_, x_), "KSPSolve");
-    PetscInt its = 0;
-    KSPConvergedReason reason;
-    PetscReal residual = 0.0, rtol = 0.0;
-    check(KSPGetIterationNumber(ksp_, &its), "KSPGetIterationNumber");
-    check(KSPGetConvergedReason(ksp_, &reason), "KSPGetConvergedReason");
-    check(KSPGetResidualNorm(ksp_, &residual), "KSPGetResidualNorm");
-    check(KSPGetTolerances(ksp_, &rtol, nullptr, nullptr, nullptr), "KSPGetTolerances");
-    iterations_ += its;
-    if (reason < 0) {
-      KSPType ksp_type;
-      PCType pc_type;
-      PC pc;
-      KSPGetType(ksp_, &ksp_type);
-      KSPGetPC(ksp_, &pc);
-      PCGetType(pc, &pc_type);
-      throw SolverError(fmt::format(
-          "PETSc {} with {} did not converge ({}): residual {:.3e} ({:.2e} of the right-hand side's) after {} "
-          "iterations (relative tolerance {:.1e})",
-          ksp_type ? ksp_type : "?", pc_type ? pc_type : "?", KSPConvergedReasons[reason], residual,
-          residual / std::max(b.norm(), 1e-300), its, rtol));
-    }
-    const PetscScalar* xv = nullptr;
-    check(VecGetArrayRead(x_, &xv), "VecGetArrayRead");
+    const PetscScalar* xv = solve_own_rows(b);
     if (const RowHalo* halo = rows_halo()) {  // this rank's rows, then its ghost rows from their owners
       Vector x = Vector::Zero(b.size());
       std::copy(xv, xv + (last_ - first_), x.data() + first_);
@@ -217,7 +189,60 @@ class Petsc final : public LinearSolver {
     return x;
   }
 
+  /// Several right-hand sides (the gradient step's strain or stress components): each
+  /// solved in turn, the ghost rows of all fetched with one exchange.
+  Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override {
+    const RowHalo* halo = rows_halo();
+    if (!halo) return LinearSolver::do_solve(B);
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(B.rows(), B.cols());
+    for (Eigen::Index j = 0; j < B.cols(); ++j) {
+      const PetscScalar* xv = solve_own_rows(B.col(j));
+      std::copy(xv, xv + (last_ - first_), X.col(j).data() + first_);
+      check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
+    }
+    halo->fetch_ghosts(X);
+    return X;
+  }
+
  private:
+  /// Solves for b's own rows (b: this rank's rows [first_, last_) are read); returns x_'s
+  /// array of this rank's rows, to be restored by the caller (VecRestoreArrayRead). A
+  /// Krylov method that did not converge throws SolverError with the iterations and the
+  /// residual, relative to the whole right-hand side's norm (over every rank's rows).
+  const PetscScalar* solve_own_rows(const Vector& b) const {
+    if (!user_rtol_) check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
+    PetscScalar* v = nullptr;
+    check(VecGetArray(b_, &v), "VecGetArray");
+    std::copy(b.data() + first_, b.data() + last_, v);
+    check(VecRestoreArray(b_, &v), "VecRestoreArray");
+    check(KSPSolve(ksp_, b_, x_), "KSPSolve");
+    PetscInt its = 0;
+    KSPConvergedReason reason;
+    PetscReal residual = 0.0, rtol = 0.0, b_norm = 0.0;
+    check(KSPGetIterationNumber(ksp_, &its), "KSPGetIterationNumber");
+    check(KSPGetConvergedReason(ksp_, &reason), "KSPGetConvergedReason");
+    check(KSPGetResidualNorm(ksp_, &residual), "KSPGetResidualNorm");
+    check(KSPGetTolerances(ksp_, &rtol, nullptr, nullptr, nullptr), "KSPGetTolerances");
+    iterations_ += its;
+    if (reason < 0) {  // (the reason is the same on every rank: each throws)
+      check(VecNorm(b_, NORM_2, &b_norm), "VecNorm");
+      KSPType ksp_type;
+      PCType pc_type;
+      PC pc;
+      KSPGetType(ksp_, &ksp_type);
+      KSPGetPC(ksp_, &pc);
+      PCGetType(pc, &pc_type);
+      throw SolverError(fmt::format(
+          "PETSc {} with {} did not converge ({}): residual {:.3e} ({:.2e} of the right-hand side's) after {} "
+          "iterations (relative tolerance {:.1e})",
+          ksp_type ? ksp_type : "?", pc_type ? pc_type : "?", KSPConvergedReasons[reason], residual,
+          residual / std::max(static_cast<double>(b_norm), 1e-300), its, rtol));
+    }
+    const PetscScalar* xv = nullptr;
+    check(VecGetArrayRead(x_, &xv), "VecGetArrayRead");
+    return xv;
+  }
+
   void set_own_rows(InsertMode mode) {
     for (PetscInt r = 0; r + first_ < last_; ++r) {
       const PetscInt row = first_ + r, begin = row_start_[r];
