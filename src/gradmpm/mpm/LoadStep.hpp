@@ -57,7 +57,7 @@ class LoadStep {
                  : m.point_ids),
         st_(stencils(m, split_ ? &ids_ : nullptr)),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
-        dofs_(st_, m.grid.num_nodes(), dim, split_ ? m.rank_cells : std::vector<int>{}),
+        dofs_(st_, m.grid.num_nodes(), dim, split_ ? m.rank_cells : std::vector<int>{}, ghost_margin(m.grid)),
         ghost_(m.ghost_penalty > 0.0
                    ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty,
                                                        split_ ? m.rank_cells : std::vector<int>{})
@@ -75,7 +75,10 @@ class LoadStep {
     for (const auto& [dof, value] : prescribed) {
       constrained_.push_back(dof);
       increments_.push_back(value);
+      largest_increment_ = std::max(largest_increment_, std::abs(value));
     }
+    // (a distributed run's ranks know the constrained nodes of their own and ghost rows)
+    if (split_) ranks::max(&largest_increment_, 1);
     if (fbar_) {
       all_cells_.resize(fbar_->members().size());
       for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
@@ -105,6 +108,8 @@ class LoadStep {
   const Vector& f_ext() const { return f_ext_; }
   const std::vector<int>& constrained() const { return constrained_; }
   const std::vector<double>& increments() const { return increments_; }
+  /// The largest prescribed increment (in size) over every rank's.
+  double largest_increment() const { return largest_increment_; }
   const SparseMatrix& pattern() const { return pattern_; }
   const PointStencils<dim>& stencils() const { return st_; }
   /// The state block of the last internal_force() iterate.
@@ -328,6 +333,14 @@ class LoadStep {
   }
 
  private:
+  /// How far beyond its run of nodes a rank learns the equations (DofMap's margin): three
+  /// node layers across the grid's slowest axis, which hold the corners of the cells
+  /// beside its own (the ghost penalty's faces whose lowest node is its, its grid
+  /// piece's corners); its stencils' nodes it learns wherever they are.
+  static int ghost_margin(const Grid<dim>& grid) {
+    return 3 * (grid.num_nodes() / (grid.cells()[dim - 1] + 1));
+  }
+
   /// A distributed run's: the rows of the active corners of this rank's cells, ascending.
   std::vector<int> piece_rows() const {
     const auto& grid = model_.grid;
@@ -470,6 +483,7 @@ class LoadStep {
   Assembler<dim> assembler_;
   std::vector<int> constrained_;
   std::vector<double> increments_;
+  double largest_increment_ = 0.0;
   Vector f_ext_;
   /// Written by every internal_force() before it is read: not zeroed when made (2e5
   /// points: 40 MB, 4 ms of a load step's set-up).

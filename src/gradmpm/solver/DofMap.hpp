@@ -3,6 +3,7 @@
 // functions some point touches take part in a load step (AMPLE's "active nodes");
 // the others carry no equation. Equation of (node, component) = eq(node)*ncomp + comp.
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -16,16 +17,33 @@ class DofMap {
  public:
   DofMap() = default;
 
+  /// How much of a distributed run's numbering a rank learns.
+  /// `every_node`: the active nodes are the union over the ranks of their stencils' nodes
+  /// (an all-reduce of one integer per grid node), and every rank knows every node's
+  /// equations. A margin m >= 0: each rank learns the equations of the nodes it owns, of
+  /// its stencils' nodes, and of the nodes within m node indices of its run (for the
+  /// ghost penalty's faces and its grid piece), from their owners: neighbour messages
+  /// only. The other nodes read as inactive on that rank (active() false).
+  static constexpr int every_node = -1;
+
   /// The nodes of the stencils `st`. `rank_nodes`: a distributed run's cut of the grid
   /// nodes (Model::rank_cells: rank r owns nodes [rank_nodes[r], rank_nodes[r + 1]),
   /// ranks + 1 entries), given on every rank with that rank's points' stencils: the
-  /// active nodes are then those of every rank's stencils (the same numbering on every
-  /// rank), and rank_rows() says which equations each rank owns. Empty: a serial run.
+  /// active nodes are then those of every rank's stencils, numbered in increasing index
+  /// (the same equation of a node on every rank that knows it: see `margin` above), and
+  /// rank_rows() says which equations each rank owns. Empty: a serial run.
   template <int dim>
-  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp, const std::vector<int>& rank_nodes = {})
+  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp, const std::vector<int>& rank_nodes = {},
+         int margin = every_node)
       : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
     for (const auto& s : st)
       for (int a = 0; a < s.count; ++a) eq_of_node_[s.node[a]] = 0;
+    if (!rank_nodes.empty() && static_cast<int>(rank_nodes.size()) != ranks::size() + 1)
+      throw std::logic_error("DofMap: a cut of the grid nodes needs one more entry than there are ranks");
+    if (!rank_nodes.empty() && margin >= 0) {
+      number_by_owners(rank_nodes, margin);
+      return;
+    }
     if (!rank_nodes.empty()) ranks::max(eq_of_node_.data(), eq_of_node_.size());
     for (int n = 0; n < num_nodes; ++n)
       if (eq_of_node_[n] == 0) {
@@ -37,8 +55,6 @@ class DofMap {
         throw std::logic_error("DofMap: a distributed run's numbering needs the cut of the grid nodes (Model::rank_cells)");
       return;
     }
-    if (static_cast<int>(rank_nodes.size()) != ranks::size() + 1)
-      throw std::logic_error("DofMap: a cut of the grid nodes needs one more entry than there are ranks");
     rank_rows_ = rows_of(rank_nodes);
   }
 
@@ -47,6 +63,7 @@ class DofMap {
   /// equations are [rows[r], rows[r + 1]). Nodes are numbered in increasing index, so
   /// the active nodes of a run of node indices are a run of equations.
   std::vector<int> rows_of(const std::vector<int>& cut) const {
+    if (partial_) throw std::logic_error("DofMap::rows_of needs a numbering that knows every node");
     if (cut.size() < 2 || cut.front() != 0 || cut.back() != num_grid_nodes() || !std::is_sorted(cut.begin(), cut.end()))
       throw std::logic_error("DofMap: a cut of the grid nodes must run from 0 to the number of nodes, ascending");
     std::vector<int> rows(cut.size());
@@ -73,15 +90,18 @@ class DofMap {
   Vector to_grid_all(const Vector& v) const {
     Vector u = Vector::Zero(static_cast<Eigen::Index>(num_grid_nodes()) * ncomp_);
     for (int e = 0; e < num_active_nodes(); ++e)
-      for (int i = 0; i < ncomp_; ++i) u[node_of_eq_[e] * ncomp_ + i] = v[e * ncomp_ + i];
+      if (node_of_eq_[e] >= 0)  // (a rank's numbering by its owners: a node it does not know)
+        for (int i = 0; i < ncomp_; ++i) u[node_of_eq_[e] * ncomp_ + i] = v[e * ncomp_ + i];
     return u;
   }
 
-  /// The active nodes' coordinates, one row per node in equation order.
+  /// The active nodes' coordinates, one row per node in equation order (zero for a node
+  /// this rank does not know).
   template <int dim>
   Eigen::MatrixXd coordinates(const Grid<dim>& grid) const {
-    Eigen::MatrixXd x(num_active_nodes(), dim);
-    for (int e = 0; e < num_active_nodes(); ++e) x.row(e) = grid.node_position(node_of_eq_[e]).transpose();
+    Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_active_nodes(), dim);
+    for (int e = 0; e < num_active_nodes(); ++e)
+      if (node_of_eq_[e] >= 0) x.row(e) = grid.node_position(node_of_eq_[e]).transpose();
     return x;
   }
 
@@ -89,11 +109,81 @@ class DofMap {
   /// inactive nodes getting `fill`.
   Vector to_grid(const Vector& v, int comp = 0, double fill = 0.0) const {
     Vector g = Vector::Constant(num_grid_nodes(), fill);
-    for (int e = 0; e < num_active_nodes(); ++e) g[node_of_eq_[e]] = v[e * ncomp_ + comp];
+    for (int e = 0; e < num_active_nodes(); ++e)
+      if (node_of_eq_[e] >= 0) g[node_of_eq_[e]] = v[e * ncomp_ + comp];
     return g;
   }
 
  private:
+  /// Each rank numbers the active nodes of its run after the ranks before it: the nodes
+  /// its stencils reach in other runs (and those within `margin` of its run) are sent to
+  /// their owners (the NBX consensus: neighbours only), which mark the reached ones
+  /// active, number their run, and answer each node's equation (or -1: inactive).
+  void number_by_owners(const std::vector<int>& rank_nodes, int margin) {
+    partial_ = true;
+    const int me = ranks::rank(), size = ranks::size(), num_nodes = num_grid_nodes();
+    const int first = rank_nodes[me], last = rank_nodes[me + 1];
+    auto owner = [&](int n) {
+      return static_cast<int>(std::upper_bound(rank_nodes.begin(), rank_nodes.end(), n) - rank_nodes.begin()) - 1;
+    };
+    // The nodes this rank needs from others, ascending (so grouped by owner in rank
+    // order), each with whether its stencils reach it.
+    std::vector<int> asked, items;
+    std::vector<long long> count(size, 0);
+    const int low = std::max(0, first - margin), high = std::min(num_nodes, last + margin);
+    for (int n = 0; n < num_nodes; ++n) {
+      if (n >= first && n < last) continue;
+      const bool reached = eq_of_node_[n] == 0;
+      if (!reached && (n < low || n >= high)) continue;
+      asked.push_back(n);
+      items.push_back(n);
+      items.push_back(reached ? 1 : 0);
+      ++count[owner(n)];
+    }
+    const ranks::Neighbours to_owners = ranks::neighbours_of(count);
+    const std::vector<char> got = ranks::exchange(to_owners, reinterpret_cast<const char*>(items.data()), 2 * sizeof(int));
+    std::vector<int> received(got.size() / sizeof(int));
+    if (!got.empty()) std::memcpy(received.data(), got.data(), got.size());
+    for (std::size_t k = 0; k < received.size(); k += 2) {
+      const int n = received[k];
+      if (n < first || n >= last) throw std::logic_error("DofMap: a rank asked for a node this rank does not own");
+      if (received[k + 1]) eq_of_node_[n] = 0;
+    }
+    // This rank's run, numbered after the ranks before it.
+    int own = 0;
+    for (int n = first; n < last; ++n) own += eq_of_node_[n] == 0;
+    const std::vector<int> counts = ranks::all_gather({own});
+    int offset = 0, total = 0;
+    rank_rows_.assign(size + 1, 0);
+    for (int r = 0; r < size; ++r) {
+      if (r < me) offset += counts[r];
+      total += counts[r];
+      rank_rows_[r + 1] = rank_rows_[r] + counts[r] * ncomp_;
+    }
+    node_of_eq_.assign(total, -1);
+    for (int n = first, e = offset; n < last; ++n)
+      if (eq_of_node_[n] == 0) {
+        eq_of_node_[n] = e;
+        node_of_eq_[e++] = n;
+      }
+    // The answers: each asked node's equation, back in the order asked.
+    std::vector<int> answers(received.size() / 2);
+    for (std::size_t k = 0; k < answers.size(); ++k) answers[k] = eq_of_node_[received[2 * k]];
+    ranks::Neighbours back;
+    back.to = to_owners.from;
+    back.to_count = to_owners.from_count;
+    back.from = to_owners.to;
+    back.from_count = to_owners.to_count;
+    const std::vector<char> reply = ranks::exchange(back, reinterpret_cast<const char*>(answers.data()), sizeof(int));
+    if (reply.size() != asked.size() * sizeof(int)) throw std::logic_error("DofMap: the owners' answers do not match");
+    const int* eq = reinterpret_cast<const int*>(reply.data());
+    for (std::size_t k = 0; k < asked.size(); ++k) {
+      eq_of_node_[asked[k]] = eq[k];
+      if (eq[k] >= 0) node_of_eq_[eq[k]] = asked[k];
+    }
+  }
+
+  bool partial_ = false;  ///< numbered by the owners: this rank knows only some nodes
   int ncomp_ = 1;
   std::vector<int> eq_of_node_;
   std::vector<int> node_of_eq_;
