@@ -27,18 +27,26 @@ class HelmholtzSmoother {
   /// `shares`: a distributed run's, where the assembler visits this rank's points and
   /// the pattern is their share (build_rank_pattern): the solver adds the ranks'
   /// matrices up, the loads are summed in this rank's own and ghost rows (RowHalo), and
-  /// the smoothed fields are right in those rows (all that its points' stencils read).
+  /// the smoothed fields are right in those rows (all that its points' stencils read);
+  /// a rank's `dirichlet_dofs` are those of its own and ghost rows (it may hold none
+  /// where another rank holds some: whether the system has any is decided over the ranks).
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
                     const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {},
                     bool shares = false)
       : assembler_(assembler),
         solver_(make_linear_solver(solver)),
-        halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern)) : RowHalo()) {
+        halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern)) : RowHalo()),
+        held_(!dirichlet_dofs.empty()) {
+    if (shares) {
+      int any = held_ ? 1 : 0;
+      ranks::max(&any, 1);
+      held_ = any != 0;
+    }
     if (shares && !solver_->adds_shares())
       throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
-    if (!dirichlet_dofs.empty()) dirichlet_.apply_to_matrix(A, dirichlet_dofs, &halo_);
+    if (held_) dirichlet_.apply_to_matrix(A, dirichlet_dofs, &halo_);
     if (shares) solver_->describe(SystemDescription{1, nullptr, true, &halo_});
     solver_->compute(A);
   }
@@ -72,7 +80,7 @@ class HelmholtzSmoother {
  private:
   Vector solve(Vector f, const std::vector<double>& dirichlet_values) const {
     halo_.sum(f);  // with shares, this rank's points' load: summed in own and ghost rows
-    if (!dirichlet_.dofs().empty()) dirichlet_.apply_to_rhs(f, dirichlet_values);
+    if (held_) dirichlet_.apply_to_rhs(f, dirichlet_values);
     return solver_->solve(f);
   }
 
@@ -80,6 +88,7 @@ class HelmholtzSmoother {
   DirichletElimination dirichlet_;
   std::unique_ptr<LinearSolver> solver_;
   RowHalo halo_;  ///< with shares, this rank's own and ghost rows (else every row, no exchange)
+  bool held_;     ///< some value is prescribed (on some rank's rows)
 };
 
 }  // namespace gradmpm

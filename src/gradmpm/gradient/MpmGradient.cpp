@@ -35,7 +35,10 @@ class SmoothingContext {
         backend_(backend),
         split_(owned_points(m)),
         st_(stencils(m)),
-        dofs_(st_, m.grid.num_nodes(), 1, split_ ? m.rank_cells : std::vector<int>{}),
+        // (a distributed run: numbered by the nodes' owners; each rank knows its own and
+        // its stencils' nodes, and the choices made from its held nodes below are made
+        // over the ranks)
+        dofs_(st_, m.grid.num_nodes(), 1, split_ ? m.rank_cells : std::vector<int>{}, 0),
         assembler_(st_, m.points, dofs_, &m.grid),
         pattern_(build_rank_pattern(st_, dofs_)) {}
 
@@ -57,9 +60,9 @@ class SmoothingContext {
     Eigen::MatrixXd F = assembler_.load_columns(nc, [&](int p, int j) { return t[p](comps[j][0], comps[j][1]); });
     Eigen::MatrixXd G = natural_->smooth_loads(F);
     for (int j = 0; j < nc; ++j) {
-      const std::vector<int> zero = odd_dofs(comps[j][0], comps[j][1]);
-      if (zero.empty()) continue;
-      auto& sm = by_constraints_[zero];
+      const auto [zero, key] = odd_dofs(comps[j][0], comps[j][1]);
+      if (!any_rank(!zero.empty())) continue;
+      auto& sm = by_constraints_[key];
       if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, zero, backend_, split_);
       Eigen::MatrixXd f = F.col(j);
       for (int d : zero) f(d, 0) = 0.0;
@@ -75,20 +78,39 @@ class SmoothingContext {
   /// i = j): nodes of a roller block (some but not all components held) holding i or j,
   /// and held nodes of other blocks on the plane of such a roller (where a symmetry plane
   /// meets a fixed base). Elsewhere a fixed support (no slip) keeps the natural condition.
-  std::vector<int> odd_dofs(int i, int j) const {
+  /// Also returns the key of its smoother (held_dofs).
+  std::pair<std::vector<int>, std::vector<int>> odd_dofs(int i, int j) const {
     if (i == j) return {};
-    std::vector<int> out;
+    std::vector<int> nodes;
     const double tol = 1e-9 * model_.grid.cell_size().minCoeff();
     for (const auto& k : model_.constraints) {
-      if (!dofs_.active(k.node) || !k.gradient_boundary) continue;
+      if (!k.gradient_boundary) continue;
       bool odd = k.roller && (k.component == i || k.component == j);
       for (const auto& [axis, at] : model_.roller_planes)
         odd = odd || ((axis == i || axis == j) && std::abs(model_.grid.node_position(k.node)[axis] - at) <= tol);
-      if (odd) out.push_back(dofs_.dof(k.node, 0));
+      if (odd) nodes.push_back(k.node);
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
+    return held_dofs(nodes);
+  }
+
+  /// The equations of `nodes` that this rank knows (serially: the active ones), ascending,
+  /// and the key of the smoother that holds them: serially the equations themselves (the
+  /// same held set shares one factorisation); in a distributed run the nodes (the same
+  /// on every rank, so every rank makes a smoother, a collective call, at the same calls).
+  std::pair<std::vector<int>, std::vector<int>> held_dofs(std::vector<int> nodes) const {
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    std::vector<int> dofs;
+    for (const int n : nodes)
+      if (dofs_.active(n)) dofs.push_back(dofs_.dof(n, 0));
+    return {dofs, split_ ? nodes : dofs};
+  }
+
+  /// Whether some rank's `mine` holds (serially: this one's).
+  bool any_rank(bool mine) const {
+    int any = mine ? 1 : 0;
+    if (split_) ranks::max(&any, 1);
+    return any != 0;
   }
 
   /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
@@ -98,17 +120,16 @@ class SmoothingContext {
   /// they are the L2 projection of the point field, M u = sum_p N c_p V_p (exact for
   /// linear fields; the prescribed value itself in the FEM limit). Returns nodal values.
   Vector smooth_displacement(const std::vector<double>& c, int comp) {
-    std::vector<int> dofs;
+    std::vector<int> nodes;
     for (const auto& k : model_.constraints)
-      if (k.component == comp && k.gradient_boundary && dofs_.active(k.node)) dofs.push_back(dofs_.dof(k.node, 0));
-    std::sort(dofs.begin(), dofs.end());
-    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+      if (k.component == comp && k.gradient_boundary) nodes.push_back(k.node);
+    const auto [dofs, key] = held_dofs(nodes);
     std::vector<double> values;
-    if (!dofs.empty()) {
+    if (any_rank(!dofs.empty())) {  // (the projection is collective)
       const Vector projected = project(c);
       for (int d : dofs) values.push_back(projected[d]);
     }
-    auto& sm = by_constraints_[dofs];
+    auto& sm = by_constraints_[key];
     if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, dofs, backend_, split_);
     return sm->smooth_point_field(c, values);
   }
