@@ -236,7 +236,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           }
         }
       }
-      if (split) ranks::sum(sums.data(), static_cast<int>(sums.size()));
+      if (split) ranks::sum(sums.data(), sums.size());
       for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
         const double* s = &sums[b * per_set];
         Vec<dim> r, mean;

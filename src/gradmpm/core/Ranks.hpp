@@ -49,6 +49,12 @@ int min(int value);
 /// v = the entrywise largest over ranks of v, on every rank.
 void max(int* v, std::size_t n);
 void max(double* v, std::size_t n);
+/// Whether `mine` holds on some rank, on every rank.
+inline bool any(bool mine) {
+  int v = mine ? 1 : 0;
+  max(&v, 1);
+  return v != 0;
+}
 
 /// Every rank's `mine`, concatenated in rank order, on every rank.
 std::vector<int> all_gather(const std::vector<int>& mine);
@@ -63,6 +69,8 @@ struct Neighbours {
   std::vector<int> to, from;
   std::vector<long long> to_count, from_count;
   long long received() const;  ///< items this rank receives, its own included
+  /// The same neighbours the other way: answers back to the ranks that sent.
+  Neighbours reversed() const { return {from, to, from_count, to_count}; }
 };
 
 /// Finds who sends to this rank when send_counts[r] items go to rank r, without an

@@ -36,12 +36,7 @@ class HelmholtzSmoother {
       : assembler_(assembler),
         solver_(make_linear_solver(solver)),
         halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern)) : RowHalo()),
-        held_(!dirichlet_dofs.empty()) {
-    if (shares) {
-      int any = held_ ? 1 : 0;
-      ranks::max(&any, 1);
-      held_ = any != 0;
-    }
+        held_(shares ? ranks::any(!dirichlet_dofs.empty()) : !dirichlet_dofs.empty()) {
     if (shares && !solver_->adds_shares())
       throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");
     SparseMatrix A = scalar_pattern;

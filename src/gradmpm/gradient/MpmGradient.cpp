@@ -61,7 +61,7 @@ class SmoothingContext {
     Eigen::MatrixXd G = natural_->smooth_loads(F);
     for (int j = 0; j < nc; ++j) {
       const auto [zero, key] = odd_dofs(comps[j][0], comps[j][1]);
-      if (!any_rank(!zero.empty())) continue;
+      if (!ranks::any(!zero.empty())) continue;  // (every rank's: making a smoother is collective)
       auto& sm = by_constraints_[key];
       if (!sm) sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l_, zero, backend_, split_);
       Eigen::MatrixXd f = F.col(j);
@@ -106,12 +106,6 @@ class SmoothingContext {
     return {dofs, split_ ? nodes : dofs};
   }
 
-  /// Whether some rank's `mine` holds (serially: this one's).
-  bool any_rank(bool mine) const {
-    int any = mine ? 1 : 0;
-    if (split_) ranks::max(&any, 1);
-    return any != 0;
-  }
 
   /// u-RA: smoothing of displacement component `comp`, held on the nodes where the
   /// classical problem holds that component (supports marked gradient_boundary = false,
@@ -125,7 +119,7 @@ class SmoothingContext {
       if (k.component == comp && k.gradient_boundary) nodes.push_back(k.node);
     const auto [dofs, key] = held_dofs(nodes);
     std::vector<double> values;
-    if (any_rank(!dofs.empty())) {  // (the projection is collective)
+    if (ranks::any(!dofs.empty())) {  // (every rank's: the projection is collective)
       const Vector projected = project(c);
       for (int d : dofs) values.push_back(projected[d]);
     }

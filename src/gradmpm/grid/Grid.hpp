@@ -56,6 +56,14 @@ class Grid {
     return ijk;
   }
 
+  /// Whether node n is a cell's lower corner (a cell's key): not on the grid's upper faces.
+  bool is_cell_key(int n) const {
+    const Index ijk = node_ijk(n);
+    for (int d = 0; d < dim; ++d)
+      if (ijk[d] >= cells_[d]) return false;
+    return true;
+  }
+
   Vec<dim> node_position(int n) const {
     const Index ijk = node_ijk(n);
     Vec<dim> x;

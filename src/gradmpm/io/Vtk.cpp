@@ -73,13 +73,10 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
   // their corners in VTK order: line (0,1); quad (00,10,11,01); hexahedron bottom then top.
   static constexpr int order[3][8] = {{0, 1}, {0, 1, 3, 2}, {0, 1, 3, 2, 4, 5, 7, 6}};
   constexpr int corners = 1 << dim;
-  const auto& nc = grid.cells();
   std::vector<long> conn;
   for (int key = first_key; key < last_key; ++key) {
+    if (!grid.is_cell_key(key)) continue;
     const typename Grid<dim>::Index c = grid.node_ijk(key);
-    bool cell = true;  // a node on the grid's upper faces is no cell's lower corner
-    for (int d = 0; d < dim; ++d) cell = cell && c[d] < nc[d];
-    if (!cell) continue;
     for (int k = 0; k < corners; ++k) {
       const int bits = order[dim - 1][k];
       typename Grid<dim>::Index ijk;

@@ -344,13 +344,11 @@ class LoadStep {
   /// A distributed run's: the rows of the active corners of this rank's cells, ascending.
   std::vector<int> piece_rows() const {
     const auto& grid = model_.grid;
-    const auto& nc = grid.cells();
     std::vector<int> rows;
     for (int key = model_.rank_cells[ranks::rank()]; key < model_.rank_cells[ranks::rank() + 1]; ++key) {
+      if (!grid.is_cell_key(key)) continue;
       const auto c = grid.node_ijk(key);
-      bool cell = true;  // a node on the grid's upper faces is no cell's lower corner
-      for (int d = 0; d < dim; ++d) cell = cell && c[d] < nc[d];
-      for (int k = 0; cell && k < (1 << dim); ++k) {
+      for (int k = 0; k < (1 << dim); ++k) {
         auto ijk = c;
         for (int d = 0; d < dim; ++d) ijk[d] += (k >> d) & 1;
         const int n = grid.node_index(ijk);

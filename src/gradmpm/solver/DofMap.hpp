@@ -169,12 +169,7 @@ class DofMap {
     // The answers: each asked node's equation, back in the order asked.
     std::vector<int> answers(received.size() / 2);
     for (std::size_t k = 0; k < answers.size(); ++k) answers[k] = eq_of_node_[received[2 * k]];
-    ranks::Neighbours back;
-    back.to = to_owners.from;
-    back.to_count = to_owners.from_count;
-    back.from = to_owners.to;
-    back.from_count = to_owners.to_count;
-    const std::vector<char> reply = ranks::exchange(back, reinterpret_cast<const char*>(answers.data()), sizeof(int));
+    const std::vector<char> reply = ranks::exchange(to_owners.reversed(), reinterpret_cast<const char*>(answers.data()), sizeof(int));
     if (reply.size() != asked.size() * sizeof(int)) throw std::logic_error("DofMap: the owners' answers do not match");
     const int* eq = reinterpret_cast<const int*>(reply.data());
     for (std::size_t k = 0; k < asked.size(); ++k) {

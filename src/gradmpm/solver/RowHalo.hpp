@@ -60,10 +60,7 @@ class RowHalo {
     if (!asked.empty()) std::memcpy(requested_.data(), asked.data(), asked.size());
     for (const int row : requested_)
       if (row < first() || row >= last()) throw std::logic_error("RowHalo: a rank asked for a row this rank does not own");
-    to_ghosts_.to = to_owners_.from;
-    to_ghosts_.to_count = to_owners_.from_count;
-    to_ghosts_.from = to_owners_.to;
-    to_ghosts_.from_count = to_owners_.to_count;
+    to_ghosts_ = to_owners_.reversed();
   }
 
   bool distributed() const { return !rank_rows_.empty(); }
