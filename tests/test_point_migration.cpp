@@ -84,10 +84,11 @@ TEST(RankPoints, EachPointHasOneOwnerAndTheCutIsFixedByTheReferenceConfiguration
   // owners(): the rank of each point's current cell under the cut of the reference
   // positions; a point moved down by a cell at a cut belongs to the rank below.
   Model<2> m = make_column<2>(12, BasisKind::MPM);
-  m.rank_cells = rank_cells(m.grid, m.points.original_position, 3);
-  ASSERT_EQ(m.rank_cells.size(), 4u);
-  EXPECT_EQ(m.rank_cells.front(), 0);
-  EXPECT_EQ(m.rank_cells.back(), m.grid.num_nodes());
+  m.rank_boxes = rank_boxes(m.grid, m.points.original_position, 3);
+  ASSERT_EQ(m.rank_boxes.size(), 3);
+  EXPECT_EQ(m.rank_boxes.cut(0), (std::vector<int>{0, 1})) << "a column one cell wide: slabs";
+  EXPECT_EQ(m.rank_boxes.cut(1).front(), 0);
+  EXPECT_EQ(m.rank_boxes.cut(1).back(), m.grid.cells()[1]);
   std::vector<int> count(3, 0);
   for (const int r : owners(m)) ++count[r];
   EXPECT_EQ(count, (std::vector<int>{16, 16, 16})) << "12 cells of 4 points, cut at equal counts";
@@ -106,13 +107,14 @@ TEST(RankPoints, EachPointHasOneOwnerAndTheCutIsFixedByTheReferenceConfiguration
   int changed = 0;
   for (int p = 0; p < m.points.size(); ++p) changed += after[p] != before[p];
   EXPECT_EQ(changed, moved);
-  EXPECT_EQ(rank_cells(m.grid, m.points.original_position, 3), m.rank_cells) << "the cut does not move";
+  EXPECT_EQ(rank_boxes(m.grid, m.points.original_position, 3).cut(1), m.rank_boxes.cut(1)) << "the cut does not move";
 }
 
 TEST(RankPoints, TheCutFromCountsIsTheCutOfThePointsSortedByKey) {
-  // rank_cells_of_counts (the reader's, from counts per cell without making the points)
-  // and partition_points (the points sorted by key, cut at equal counts, moved on past the
-  // rest of a key) give each rank the same first cell, on uneven keys with empty ones.
+  // cut_at_counts (each direction's cut, from counts per layer of cells without making
+  // the points) and partition_points (the points sorted by key, cut at equal counts,
+  // moved on past the rest of a key) give each part the same first layer, on uneven
+  // layers with empty ones.
   std::vector<int> key;
   const int num_keys = 40;
   unsigned seed = 7;
@@ -129,34 +131,22 @@ TEST(RankPoints, TheCutFromCountsIsTheCutOfThePointsSortedByKey) {
     first[0] = 0;
     for (int r = 1; r < ranks; ++r)
       if (part.start[r] < static_cast<int>(key.size())) first[r] = key[part.order[part.start[r]]];
-    EXPECT_EQ(rank_cells_of_counts(per_key, ranks), first) << ranks << " ranks";
+    EXPECT_EQ(cut_at_counts(per_key, ranks), first) << ranks << " ranks";
   }
 }
 
-TEST(RankPoints, EachRankOwnsTheEquationsOfTheNodesOfItsCells) {
-  // Grid partition, step 1 (docs/parallel.md): rank r owns the equations of the active
-  // nodes in its run of the cut (DofMap::rows_of, the rows PETSc gives it), a contiguous
-  // block after the ranks before it; the nodes of a rank's points' own cells (their lower
-  // corners, the keys) are in its rows, so its share of the tangent falls there but for
-  // the nodes its points reach across the cut.
+TEST(RankPoints, APointsStencilReachesOneNodeLayerBeyondItsRanksBox) {
+  // The ghost layer of the partition (docs/parallel.md): a point's stencil nodes that
+  // another rank owns lie at most one node row below the rank's lowest cells (GIMP's
+  // support; none for MPM) and one (MPM) or two (GIMP) above its highest (the upper
+  // corners of its top cells), and a point's own cell's lower corner is its rank's.
   for (const BasisKind basis : {BasisKind::MPM, BasisKind::CPGIMP}) {
     const Model<2> m = make_column<2>(12, basis);
     const auto st = evaluate_stencils(m.grid, m.points, basis);
-    const DofMap dofs(st, m.grid.num_nodes(), 2);
     for (int ranks = 1; ranks <= 5; ++ranks) {
-      const std::vector<int> cut = rank_cells(m.grid, m.points.original_position, ranks);
-      const std::vector<int> rows = dofs.rows_of(cut);
-      ASSERT_EQ(rows.size(), cut.size());
-      EXPECT_EQ(rows.front(), 0);
-      EXPECT_EQ(rows.back(), dofs.num_dofs());
-      for (int e = 0; e < dofs.num_dofs(); ++e) {
-        const int node = dofs.node_of(e / 2), r = owner_of(cut, node);
-        EXPECT_TRUE(e >= rows[r] && e < rows[r + 1]) << "equation " << e << " of node " << node << ", " << ranks << " ranks";
-      }
-      // The ghost layer: a point's stencil nodes outside its rank's rows lie at most one
-      // node row below the rank's lowest cells (GIMP's support; none for MPM) and one
-      // (MPM) or two (GIMP) above its highest (the upper corners of its top cells).
-      const std::vector<int> owner = owners(m.grid, cut, m.points.position);
+      const RankBoxes boxes = rank_boxes(m.grid, m.points.original_position, ranks);
+      ASSERT_EQ(boxes.size(), ranks);
+      const std::vector<int> owner = owners(m.grid, boxes, m.points.position);
       std::vector<int> low(ranks, 1 << 30), high(ranks, -1);  // each rank's points' cell rows
       for (int p = 0; p < m.points.size(); ++p) {
         const int row = m.grid.node_ijk(cell_corner_key(m.grid, m.points.position[p]))[1];
@@ -167,12 +157,10 @@ TEST(RankPoints, EachRankOwnsTheEquationsOfTheNodesOfItsCells) {
       int ghosts = 0;
       for (int p = 0; p < m.points.size(); ++p) {
         const int key = cell_corner_key(m.grid, m.points.position[p]), r = owner[p];
-        ASSERT_TRUE(dofs.active(key));
-        EXPECT_GE(dofs.dof(key, 0), rows[r]);
-        EXPECT_LT(dofs.dof(key, 1), rows[r + 1]);
+        EXPECT_EQ(boxes.owner(key), r);
         for (int a = 0; a < st[p].count; ++a) {
-          const int node = st[p].node[a], e = dofs.dof(node, 0);
-          if (e >= rows[r] && e < rows[r + 1]) continue;
+          const int node = st[p].node[a];
+          if (boxes.owner(node) == r) continue;
           ++ghosts;
           const int row = m.grid.node_ijk(node)[1];
           EXPECT_TRUE(row >= low[r] - below && row <= high[r] + above) << "node " << node << " of a point of rank " << r;

@@ -2,11 +2,14 @@
 // numbers its equations by the nodes' owners (DofMap with a margin: neighbour messages,
 // no all-reduce over the grid) and every rank gets the numbering of the union over the
 // ranks (DofMap::every_node) wherever it looks: the same equation for each node it knows,
-// the same rows per rank; it knows every node it owns, every node its stencils reach
-// (wherever they are) and the nodes within the margin of its run, and no others.
+// the same rows per rank, each rank's own nodes a run of equations in increasing index;
+// it knows every node it owns, every node its stencils reach (wherever they are) and the
+// nodes within the margin of its box, and no others.
 // Run: mpirun -n N dof_map_check (exit 0: every check held).
-// Each rank's stencils reach nodes in its run and a few far away (a stretched GIMP
-// domain), and some nodes of every run are reached by no rank (inactive).
+// The grid (24 x 24 cells) is cut into uneven boxes (2 x 2 on 4 ranks, 3 x 1 on 3);
+// each rank's stencils reach nodes in its box, the next node layers beyond it in x and
+// y, and a few far away (a stretched GIMP domain), and some nodes of every box are
+// reached by no rank (inactive).
 #include <cstdio>
 #include <vector>
 
@@ -17,16 +20,21 @@ using namespace gradmpm;
 
 int main(int argc, char** argv) {
   ranks::Session session(&argc, &argv);
-  const int size = ranks::size(), me = ranks::rank(), num_nodes = 601, margin = 7;
+  const int size = ranks::size(), me = ranks::rank(), num_nodes = 25 * 25, margin = 2;
   int failures = 0;
   auto fail = [&](const char* what, int node, int got, int expected) {
     if (failures++ < 10) std::fprintf(stderr, "rank %d: %s, node %d: %d, expected %d\n", me, what, node, got, expected);
   };
-  std::vector<int> cut(size + 1, 0);  // uneven runs
-  for (int r = 1; r < size; ++r) cut[r] = static_cast<int>(1LL * num_nodes * r * r / (size * size));
-  cut[size] = num_nodes;
-  // This rank's stencils: every third node of its run (so some nodes are nobody's), the
-  // first nodes of the next run, and two nodes far away.
+  // Uneven cuts: ranks across x and y (4 = 2 x 2, 3 = 3 x 1, 2 = 1 x 2).
+  const int across_x = size == 2 ? 1 : (size % 2 == 0 ? 2 : size), across_y = size / across_x;
+  auto uneven = [](int parts) {
+    std::vector<int> c(parts + 1, 24);
+    for (int p = 0; p < parts; ++p) c[p] = 24 * p * p / (parts * parts);
+    return c;
+  };
+  const RankBoxes boxes({24, 24}, {uneven(across_x), uneven(across_y)});
+  // This rank's stencils: every third node of its box (so some nodes are nobody's), the
+  // two node layers beyond its box's upper sides, and two nodes far away.
   PointStencils<2> st;
   auto reach = [&](int node) {
     Stencil<2> s;
@@ -34,20 +42,33 @@ int main(int argc, char** argv) {
     s.node[0] = node;
     st.push_back(s);
   };
-  for (int n = cut[me]; n < cut[me + 1]; n += 3) reach(n);
-  for (int n = cut[me + 1]; n < std::min(num_nodes, cut[me + 1] + 4); ++n) reach(n);
-  reach((cut[me] + 300) % num_nodes);
+  int k = 0;
+  boxes.for_each_node(me, [&](int n) {
+    if (k++ % 3 == 0) reach(n);
+  });
+  const RankBoxes::Box box = boxes.box(me);
+  for (int j = box.lo[1]; j <= std::min(24, box.hi[1] + 1); ++j)
+    for (int i = box.lo[0]; i <= std::min(24, box.hi[0] + 1); ++i)
+      if (i > box.hi[0] || j > box.hi[1]) reach(i + 25 * j);
+  reach((box.lo[0] + 25 * box.lo[1] + 300) % num_nodes);
   reach((7 * me + 11) % num_nodes);
-  const DofMap whole(st, num_nodes, 2, cut, DofMap::every_node);
-  const DofMap by_owners(st, num_nodes, 2, cut, margin);
+  const DofMap whole(st, num_nodes, 2, boxes, DofMap::every_node);
+  const DofMap by_owners(st, num_nodes, 2, boxes, margin);
   if (whole.rank_rows() != by_owners.rank_rows()) fail("rank rows differ", -1, 0, 0);
   if (whole.num_dofs() != by_owners.num_dofs()) fail("equations", -1, by_owners.num_dofs(), whole.num_dofs());
+  int previous = -1;  // this rank's own nodes: its rows, ascending
+  boxes.for_each_node(me, [&](int n) {
+    if (!whole.active(n)) return;
+    const int e = whole.dof(n, 0);
+    if (e < whole.rank_rows()[me] || e >= whole.rank_rows()[me + 1] || e <= previous) fail("own row", n, e, previous + 2);
+    previous = e;
+  });
   std::vector<char> reached(num_nodes, 0);
   for (const auto& s : st) reached[s.node[0]] = 1;
   int known = 0;
   for (int n = 0; n < num_nodes; ++n) {
-    const bool own = n >= cut[me] && n < cut[me + 1];
-    const bool near = n >= cut[me] - margin && n < cut[me + 1] + margin;
+    const bool own = boxes.owner(n) == me;
+    const bool near = boxes.near(me, n, margin);
     const bool should_know = whole.active(n) && (own || near || reached[n]);
     if (by_owners.active(n) != should_know) fail("known", n, by_owners.active(n), should_know);
     if (should_know && by_owners.dof(n, 1) != whole.dof(n, 1)) fail("equation", n, by_owners.dof(n, 1), whole.dof(n, 1));

@@ -7,6 +7,9 @@
 # ranks, each reads its own) missing stops every rank with one message and exit 2.
 #
 #   restart_other_ranks.sh GRADMPM MPIEXEC CASE WORKDIR [--set KEY=VALUE ...]
+#
+# FIRST_RANKS (default 3): the ranks of the run that writes the checkpoint; it is
+# restarted on 2 ranks and serially.
 set -euo pipefail
 gradmpm=$1 mpiexec=$2 case=$3 work=$4
 shift 4
@@ -21,14 +24,17 @@ run() {  # run RANKS ARGS...: RANKS = 1 is a serial run, without mpirun
   timeout 200 "${launch[@]}" "$gradmpm" run "$case" -q -j1 --set linear_solver.type=petsc \
     --set output.checkpoint_every=2 "${extra[@]}" "$@"
 }
-run 3 --out "$work/three"
+first=${FIRST_RANKS:-3}
+run "$first" --out "$work/three"
 run 1 --out "$work/serial"
 ck3="$work/three.checkpoints/step_000002"
-for f in checkpoint.h5 points_0000.h5 points_0001.h5 points_0002.h5; do
-  [ -f "$ck3/$f" ] || { echo "FAILED: the 3-rank checkpoint has no $f"; ls "$ck3"; exit 1; }
+for ((r = 0; r < first; ++r)); do
+  f=$(printf 'points_%04d.h5' "$r")
+  [ -f "$ck3/$f" ] || { echo "FAILED: the $first-rank checkpoint has no $f"; ls "$ck3"; exit 1; }
 done
+[ -f "$ck3/checkpoint.h5" ] || { echo "FAILED: the $first-rank checkpoint has no checkpoint.h5"; exit 1; }
 [ ! -e "$work/serial.checkpoints/step_000002/points_0000.h5" ] || { echo "FAILED: a serial checkpoint with point files"; exit 1; }
-echo "3-rank checkpoint: checkpoint.h5 and points_0000.h5 .. points_0002.h5"
+echo "$first-rank checkpoint: checkpoint.h5 and points_0000.h5 .. $(printf 'points_%04d.h5' $((first - 1)))"
 run 2 --out "$work/three_on_2" --restart "$ck3"
 run 1 --out "$work/three_on_1" --restart "$ck3"
 run 2 --out "$work/serial_on_2" --restart "$work/serial.checkpoints/step_000002"
@@ -39,11 +45,11 @@ for restarted in three_on_2 three_on_1 serial_on_2; do
     python3 "$here/compare_csv.py" "$work/three/$f" "$work/$restarted/$f"
   done
 done
-# A missing point file: on 3 ranks only rank 1 reads it.
+# A missing point file: on as many ranks only rank 1 reads it.
 cp -r "$ck3" "$work/broken"
 rm "$work/broken/points_0001.h5"
 set +e
-run 3 --out "$work/broken_run" --restart "$work/broken" >"$work/broken.log" 2>&1
+run "$first" --out "$work/broken_run" --restart "$work/broken" >"$work/broken.log" 2>&1
 code=$?
 set -e
 count=$(grep -c "points_0001.h5 is missing" "$work/broken.log" || true)

@@ -19,9 +19,19 @@ rank_args=(--set linear_solver.type=petsc)
 [ -z "$options" ] || rank_args+=(--set "linear_solver.options=$options")
 rm -rf "$work" && mkdir -p "$work"
 "$gradmpm" run "$case" --out "$work/serial" -q -j1 "$@"
-"$mpiexec" --allow-run-as-root --oversubscribe -n "$ranks" "$gradmpm" run "$case" --out "$work/ranks" -q -j1 "$@" \
-  "${rank_args[@]}"
+# With MIGRATIONS_AT_LEAST=N the distributed run prints its steps, and its points must
+# have changed rank N times or more in all (the steps' "N point(s) moved to another rank").
+quiet=(-q)
+[ -z "${MIGRATIONS_AT_LEAST:-}" ] || quiet=()
+"$mpiexec" --allow-run-as-root --oversubscribe -n "$ranks" "$gradmpm" run "$case" --out "$work/ranks" "${quiet[@]}" -j1 "$@" \
+  "${rank_args[@]}" >"$work/ranks.log"
 status=0
+if [ -n "${MIGRATIONS_AT_LEAST:-}" ]; then
+  grep -h "cut into" "$work/ranks.log" | sed 's/.*; the grid/the grid/' || true
+  moved=$(grep -o '[0-9]* point(s) moved' "$work/ranks.log" | awk '{s += $1} END {print s + 0}')
+  echo "points that changed rank: $moved (at least $MIGRATIONS_AT_LEAST expected)"
+  [ "$moved" -ge "$MIGRATIONS_AT_LEAST" ] || status=1
+fi
 for f in points_final.csv reactions.csv points_gradient.csv tracked_points.csv energy.csv; do
   [ -f "$work/serial/$f" ] || continue
   [ -f "$work/ranks/$f" ] || { echo "$f: written by the serial run only"; status=1; continue; }

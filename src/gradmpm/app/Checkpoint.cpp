@@ -298,15 +298,17 @@ void save_run_state(Archive& a, Archive& points, const Model<dim>& m, const Driv
     return;
   }
   a.put_integer("layout/files", ranks::size());
-  // The cells each file's points lie in, as the range of their keys (cell_corner_key): a
+  // The cells each file's points lie in, as the box of their cells (the lowest and the
+  // highest cell index in each direction; an empty file's lowest above its highest): a
   // restart reads only the files that may hold points in its cells.
-  std::vector<int> range = {std::numeric_limits<int>::max(), -1};
+  std::vector<int> box(2 * dim);
+  for (int d = 0; d < dim; ++d) box[d] = std::numeric_limits<int>::max(), box[dim + d] = -1;
   for (const int key : cell_corner_keys(m.grid, m.points.position)) {
-    range[0] = std::min(range[0], key);
-    range[1] = std::max(range[1], key);
+    const auto c = m.grid.node_ijk(key);
+    for (int d = 0; d < dim; ++d) box[d] = std::min(box[d], c[d]), box[dim + d] = std::max(box[dim + d], c[d]);
   }
-  const std::vector<int> ranges = ranks::all_gather(range);
-  a.put("layout/file_keys", std::vector<long long>(ranges.begin(), ranges.end()));
+  const std::vector<int> boxes = ranks::all_gather(box);
+  a.put("layout/file_cells", std::vector<long long>(boxes.begin(), boxes.end()));
   save_points(points, m, stages);
 }
 
@@ -315,7 +317,7 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
   const Archive& a = r.archive;
   MaterialPoints<dim>& p = m.points;
   const bool split = ranks::distributed();  // each rank keeps the points in its cells
-  if (split && m.rank_cells.empty())
+  if (split && m.rank_boxes.empty())
     throw std::logic_error("a distributed restart needs the ranks' cells (read_mpm_case with rank_points_only)");
   double made = p.size();
   ranks::sum(&made, 1);
@@ -337,7 +339,7 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
       file.get_objects("points/position", n, x);
       std::vector<char> keep(n, 1);
       if (split) {
-        const std::vector<int> rank = owners(m.grid, m.rank_cells, x);
+        const std::vector<int> rank = owners(m.grid, m.rank_boxes, x);
         for (long long k = 0; k < n; ++k) keep[k] = rank[k] == ranks::rank();
       }
       return keep;
@@ -346,14 +348,20 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
     if (files == 0) {
       rows.add(a, keep_of(a));
     } else {
-      // Only the files whose points' cells meet this rank's: restarted on as many ranks
-      // (the same case, so the same cells) its own file alone; on other numbers of ranks
-      // the few whose slabs overlap its slab.
-      const std::vector<long long>& keys = a.integers("layout/file_keys", 2 * files);
-      const int lo = split ? m.rank_cells[ranks::rank()] : 0;
-      const int hi = split ? m.rank_cells[ranks::rank() + 1] : std::numeric_limits<int>::max();
+      // Only the files whose points' cells meet this rank's box: restarted on as many
+      // ranks (the same case, so the same boxes) its own file alone; on other numbers of
+      // ranks the few whose boxes overlap its box.
+      auto meets = [&](long long f) {
+        if (!split) return true;
+        const RankBoxes::Box mine = m.rank_boxes.box(ranks::rank());
+        if (!a.has("layout/file_cells")) return true;  // (an earlier version's checkpoint: every file)
+        const std::vector<long long>& cells = a.integers("layout/file_cells", 2 * dim * files);
+        for (int d = 0; d < dim; ++d)  // (an empty file: its lowest above its highest)
+          if (cells[2 * dim * f + d] >= mine.hi[d] || cells[2 * dim * f + dim + d] < mine.lo[d]) return false;
+        return true;
+      };
       for (long long f = 0; f < files; ++f) {
-        if (keys[2 * f + 1] < lo || keys[2 * f] >= hi) continue;  // (an empty file: max > min)
+        if (!meets(f)) continue;
         const fs::path file = r.folder / point_file(f);
         if (!fs::exists(file))
           throw InputError(fmt::format("{}: {} is missing (the checkpoint has {} point files)", r.folder.string(),

@@ -85,7 +85,7 @@ template <int dim>
 void save_run_state(Archive& a, Archive& points, const Model<dim>& m, const DriverState& driver,
                     const std::vector<PostStepStage<dim>*>& stages);
 /// Replaces the points' arrays by the checkpoint's (a distributed run: the points in this
-/// rank's cells, Model::rank_cells, from whichever rank's file holds them); returns the
+/// rank's cells, Model::rank_boxes, from whichever rank's file holds them); returns the
 /// driver's state. A collective call in a distributed run.
 template <int dim>
 DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector<PostStepStage<dim>*>& stages);

@@ -48,7 +48,7 @@ int mpm_case_dimension(const CaseFile& cf);
 /// Reads and validates every key and builds the model (points with their initial
 /// material state); throws InputError naming the key. rank_points_only (a distributed
 /// run, every rank calling): each rank makes only the points in its cells of the run's
-/// cut (Model::rank_cells, Model::point_ids: mpm/RankPoints.hpp), never every point; the
+/// cut (Model::rank_boxes, Model::point_ids: mpm/RankPoints.hpp), never every point; the
 /// checks of the input are made over every rank's points, so every rank meets the same error.
 template <int dim>
 MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only = false);

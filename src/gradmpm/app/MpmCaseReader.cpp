@@ -258,17 +258,17 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
                "a body holding at least one material point (it is smaller than a sub-cell)");
   }
   if (rank_points_only) {  // this rank's points (the cells of the cut), their ids in the order of every point
-    m.rank_cells = rank_cells_of_counts(per_key, ranks::size());
+    m.rank_boxes = RankBoxes::of_counts(cells_of(m.grid), per_key, ranks::size());
     const int me = ranks::rank();
     long long mine = 0;
-    for (int key = m.rank_cells[me]; key < m.rank_cells[me + 1]; ++key) mine += per_key[key];
+    m.rank_boxes.for_each_cell(me, [&](int key) { mine += per_key[key]; });
     m.points.reserve(static_cast<std::size_t>(mine));
     m.point_ids.reserve(static_cast<std::size_t>(mine));
     int id = 0;
     for (const Fill& f : fills)
       add_regular_points<dim>(m.grid, f.first, f.last, f.ppc, f.inside, f.material, m.materials[f.material]->density(),
                               m.points, [&](const Vec<dim>& x) {
-                                const bool mine = owner_of(m.rank_cells, cell_corner_key(m.grid, x)) == me;
+                                const bool mine = m.rank_boxes.owner(cell_corner_key(m.grid, x)) == me;
                                 if (mine) m.point_ids.push_back(id);
                                 ++id;
                                 return mine;

@@ -220,15 +220,13 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
       // there), then the sums are added over the ranks: nothing is gathered whole.
       const Vector R = info.grid_reaction(), du = info.grid_displacement();
       const std::vector<bool> solved = info.grid_active();
-      const bool split = !m.rank_cells.empty();
-      const int first = split ? m.rank_cells[ranks::rank()] : 0;
-      const int last = split ? m.rank_cells[ranks::rank() + 1] : m.grid.num_nodes();
+      const bool split = !m.rank_boxes.empty();
       constexpr int per_set = 2 * dim + 1;  // r, sum of du, active nodes
       std::vector<double> sums(m.node_sets.size() * per_set, 0.0);
       for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
         double* s = &sums[b * per_set];
         for (int n : m.node_sets[b].nodes) {
-          if (!solved[n] || n < first || n >= last) continue;
+          if (!solved[n] || (split && m.rank_boxes.owner(n) != ranks::rank())) continue;
           s[2 * dim] += 1.0;  // the mean displacement is over the nodes the step solved for
           for (int d = 0; d < dim; ++d) {
             s[d] += R[n * dim + d];
@@ -292,15 +290,24 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     for (const std::string& row : rows) tracked += row;
   };
   double points_in_all = m.points.size();
-  if (!m.rank_cells.empty()) ranks::sum(&points_in_all, 1);  // each rank made its own
+  std::string partition;  // a distributed run's boxes of cells, and the points they hold
+  if (!m.rank_boxes.empty()) {
+    ranks::sum(&points_in_all, 1);  // each rank made its own
+    const std::vector<int> held = ranks::all_gather({m.points.size()});
+    std::string across;
+    for (int d = 0; d < dim; ++d) across += (d ? " x " : "") + std::to_string(m.rank_boxes.cut(d).size() - 1);
+    partition = fmt::format("; the grid cut into {} boxes of cells, {} to {} points per rank", across,
+                            *std::min_element(held.begin(), held.end()), *std::max_element(held.begin(), held.end()));
+  }
 
   if (!quiet)
     fmt::print(
-        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {})\n",
+        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}){}\n",
         dim, static_cast<long long>(points_in_all), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
         ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
-                                       : std::string("waiting by default"));
+                                       : std::string("waiting by default"),
+        partition);
   // Everything the outputs accumulate from step to step, for a checkpoint.
   auto save_outputs = [&](Archive& a) {
     a.put_text("outputs/newton_history", history);

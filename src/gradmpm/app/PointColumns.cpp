@@ -224,8 +224,10 @@ std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info)
 
 template <int dim>
 std::string grid_vtu(const Model<dim>& m, const std::vector<VtkField>& fields) {
-  if (m.rank_cells.empty()) return vtu_grid<dim>(m.grid, fields);
-  return vtu_grid<dim>(m.grid, fields, m.rank_cells[ranks::rank()], m.rank_cells[ranks::rank() + 1]);
+  if (m.rank_boxes.empty()) return vtu_grid<dim>(m.grid, fields);
+  std::vector<int> keys;
+  m.rank_boxes.for_each_cell(ranks::rank(), [&](int key) { keys.push_back(key); });
+  return vtu_grid<dim>(m.grid, fields, &keys);
 }
 
 template class PointColumns<1>;

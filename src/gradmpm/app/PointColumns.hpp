@@ -71,7 +71,7 @@ template <int dim>
 std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info);
 
 /// The grid's VTU of `fields` (grid_vtk_fields): every cell, or a distributed run's
-/// piece, the rank's cells (Model::rank_cells).
+/// piece, the cells of the rank's box (Model::rank_boxes).
 template <int dim>
 std::string grid_vtu(const Model<dim>& m, const std::vector<VtkField>& fields);
 

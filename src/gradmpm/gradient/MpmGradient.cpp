@@ -38,7 +38,7 @@ class SmoothingContext {
         // (a distributed run: numbered by the nodes' owners; each rank knows its own and
         // its stencils' nodes, and the choices made from its held nodes below are made
         // over the ranks)
-        dofs_(st_, m.grid.num_nodes(), 1, split_ ? m.rank_cells : std::vector<int>{}, 0),
+        dofs_(st_, m.grid.num_nodes(), 1, m.rank_boxes, 0),
         assembler_(st_, m.points, dofs_, &m.grid),
         pattern_(build_rank_pattern(st_, dofs_)) {}
 

@@ -67,15 +67,19 @@ std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkFiel
 }
 
 template <int dim>
-std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields, int first_key, int last_key) {
-  if (last_key < 0) last_key = grid.num_nodes();
-  // The cells whose lower-corner node lies in [first_key, last_key), in that order, and
-  // their corners in VTK order: line (0,1); quad (00,10,11,01); hexahedron bottom then top.
+std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields, const std::vector<int>* keys) {
+  std::vector<int> every;
+  if (!keys) {
+    for (int key = 0; key < grid.num_nodes(); ++key)
+      if (grid.is_cell_key(key)) every.push_back(key);
+    keys = &every;
+  }
+  // The cells of the keys, in that order, and their corners in VTK order: line (0,1);
+  // quad (00,10,11,01); hexahedron bottom then top.
   static constexpr int order[3][8] = {{0, 1}, {0, 1, 3, 2}, {0, 1, 3, 2, 4, 5, 7, 6}};
   constexpr int corners = 1 << dim;
   std::vector<long> conn;
-  for (int key = first_key; key < last_key; ++key) {
-    if (!grid.is_cell_key(key)) continue;
+  for (const int key : *keys) {
     const typename Grid<dim>::Index c = grid.node_ijk(key);
     for (int k = 0; k < corners; ++k) {
       const int bits = order[dim - 1][k];
@@ -113,9 +117,9 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
   return s;
 }
 
-template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&, int, int);
-template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&, int, int);
-template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&, int, int);
+template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&, const std::vector<int>*);
+template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&, const std::vector<int>*);
+template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&, const std::vector<int>*);
 
 std::string pvtu(const std::vector<VtkField>& layout, const std::vector<std::string>& pieces) {
   std::string s =

@@ -20,13 +20,13 @@ struct VtkField {
 /// Points as VTK_VERTEX cells; `xyz` has 3 coordinates per point.
 std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkField>& fields);
 
-/// The background grid's cells whose lower-corner node lies in [first_key, last_key)
-/// (a distributed run's piece: Model::rank_cells; by default every cell) with their
+/// The background grid's cells whose lower-corner nodes (keys) are `keys`, ascending (a
+/// distributed run's piece: its box of Model::rank_boxes; null: every cell) with their
 /// corners, ascending, as the piece's points. `fields` are nodal (PointData), given at
 /// every grid node; the piece takes its corners' values.
 template <int dim>
-std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields, int first_key = 0,
-                     int last_key = -1);
+std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
+                     const std::vector<int>* keys = nullptr);
 
 /// A parallel file (.pvtu) of pieces written by vtu_points or vtu_grid, one per rank:
 /// the fields' names, components and types (`layout`; values unused) and the pieces'

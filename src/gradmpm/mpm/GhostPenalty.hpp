@@ -29,6 +29,7 @@
 
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/grid/Grid.hpp"
+#include "gradmpm/grid/RankBoxes.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/solver/SparsePattern.hpp"
@@ -45,14 +46,14 @@ class GhostFaces {
     std::array<double, kFaceNodes * kFaceNodes> g{};  ///< g_ab, row-major over the active nodes
   };
 
-  /// alpha: the dimensionless factor (gamma = alpha E). `rank_nodes`: a distributed
-  /// run's cut of the grid nodes (Model::rank_cells), `pts` being this rank's points: the
+  /// alpha: the dimensionless factor (gamma = alpha E). `boxes`: a distributed run's
+  /// partition of the grid (Model::rank_boxes), `pts` being this rank's points: the
   /// cells' occupancy is that of every rank's, and the rank keeps the faces whose lowest
-  /// node is in its run (each face in one rank's share, its nodes near the rank's rows).
+  /// node it owns (each face in one rank's share, its nodes near the rank's rows).
   GhostFaces(const Grid<dim>& grid, const MaterialPoints<dim>& pts,
              const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
-             const std::vector<int>& rank_nodes = {}) {
-    const bool over_ranks = !rank_nodes.empty();
+             const RankBoxes& boxes = {}) {
+    const bool over_ranks = !boxes.empty();
     const auto& n = grid.cells();
     const int nc = grid.num_cells();
     // Points per cell and the stiffest material in each cell.
@@ -97,11 +98,10 @@ class GhostFaces {
       }
     }
     if (over_ranks) {
-      const int first = rank_nodes[ranks::rank()], last = rank_nodes[ranks::rank() + 1];
       faces_.erase(std::remove_if(faces_.begin(), faces_.end(),
                                   [&](const Face& F) {
                                     const int lowest = *std::min_element(F.node.begin(), F.node.begin() + F.count);
-                                    return lowest < first || lowest >= last;
+                                    return boxes.owner(lowest) != ranks::rank();
                                   }),
                    faces_.end());
     }

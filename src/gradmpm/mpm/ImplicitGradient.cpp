@@ -78,7 +78,7 @@ NonlocalPlasticStrain<dim>::NonlocalPlasticStrain(const Model<dim>& m, const Poi
       stencils_(regularised_stencils(m, stencils, regularised_materials(slots_))),
       // (a distributed run: numbered by the nodes' owners; natural boundaries only, so a
       // rank needs no node beyond its own and its stencils')
-      dofs_(stencils_, m.grid.num_nodes(), 1, ranks::distributed() ? m.rank_cells : std::vector<int>{}, 0),
+      dofs_(stencils_, m.grid.num_nodes(), 1, m.rank_boxes, 0),
       assembler_(stencils_, m.points, dofs_, &m.grid),
       pattern_(build_rank_pattern(stencils_, dofs_)),
       smoother_(assembler_, pattern_, m.regularisation.length_scale, {}, solver, ranks::distributed()) {

@@ -57,10 +57,10 @@ class LoadStep {
                  : m.point_ids),
         st_(stencils(m, split_ ? &ids_ : nullptr)),
         fbar_(m.fbar ? std::make_unique<FBarCells<dim>>(m.grid, m.points, st_) : nullptr),
-        dofs_(st_, m.grid.num_nodes(), dim, split_ ? m.rank_cells : std::vector<int>{}, ghost_margin(m.grid)),
+        dofs_(st_, m.grid.num_nodes(), dim, m.rank_boxes, ghost_margin),
         ghost_(m.ghost_penalty > 0.0
                    ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty,
-                                                       split_ ? m.rank_cells : std::vector<int>{})
+                                                       m.rank_boxes)
                    : nullptr),
         contact_(m.rigid_boxes.empty()
                      ? nullptr
@@ -306,7 +306,7 @@ class LoadStep {
   };
   /// `du`: the converged increment (a distributed run's right in own and ghost rows).
   /// Serially right at every node. A distributed run's are right at the nodes this rank
-  /// owns (Model::rank_cells) and at the corners of its cells (its piece of the grid's
+  /// owns (Model::rank_boxes) and at the corners of its cells (its piece of the grid's
   /// VTU), and not used elsewhere: the masses are summed in own and ghost rows, then the
   /// corners' rows that other ranks own are fetched from them (a neighbour exchange, no
   /// whole-grid gather; a corner of an empty cell may be in no point's stencil of this
@@ -333,20 +333,17 @@ class LoadStep {
   }
 
  private:
-  /// How far beyond its run of nodes a rank learns the equations (DofMap's margin): three
-  /// node layers across the grid's slowest axis, which hold the corners of the cells
-  /// beside its own (the ghost penalty's faces whose lowest node is its, its grid
-  /// piece's corners); its stencils' nodes it learns wherever they are.
-  static int ghost_margin(const Grid<dim>& grid) {
-    return 3 * (grid.num_nodes() / (grid.cells()[dim - 1] + 1));
-  }
+  /// How far beyond its box of nodes a rank learns the equations (DofMap's margin, in
+  /// node layers): three, which hold the corners of the cells beside its own (the ghost
+  /// penalty's faces whose lowest node is its, its grid piece's corners); its stencils'
+  /// nodes it learns wherever they are.
+  static constexpr int ghost_margin = 3;
 
   /// A distributed run's: the rows of the active corners of this rank's cells, ascending.
   std::vector<int> piece_rows() const {
     const auto& grid = model_.grid;
     std::vector<int> rows;
-    for (int key = model_.rank_cells[ranks::rank()]; key < model_.rank_cells[ranks::rank() + 1]; ++key) {
-      if (!grid.is_cell_key(key)) continue;
+    model_.rank_boxes.for_each_cell(ranks::rank(), [&](int key) {
       const auto c = grid.node_ijk(key);
       for (int k = 0; k < (1 << dim); ++k) {
         auto ijk = c;
@@ -355,7 +352,7 @@ class LoadStep {
         if (dofs_.active(n))
           for (int i = 0; i < dim; ++i) rows.push_back(dofs_.dof(n, i));
       }
-    }
+    });
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
     return rows;

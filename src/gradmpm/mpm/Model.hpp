@@ -9,6 +9,7 @@
 
 #include "gradmpm/basis/BasisKind.hpp"
 #include "gradmpm/grid/Grid.hpp"
+#include "gradmpm/grid/RankBoxes.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/solver/linear/LinearSolverSettings.hpp"
@@ -77,10 +78,11 @@ struct Model {
   /// rank's, and its point k is point point_ids[k] of the whole body (increasing; its row
   /// of points_final.csv). Empty while `points` holds every point in id order (a serial run).
   std::vector<int> point_ids;
-  /// A distributed run's cut of the grid: rank r owns the cells whose lower-corner node is
-  /// in [rank_cells[r], rank_cells[r + 1]) (mpm/RankPoints.hpp); fixed for the run. Set
-  /// once the points are owned (empty: every rank holds every point).
-  std::vector<int> rank_cells;
+  /// A distributed run's cut of the grid into boxes of cells, one per rank (rank r owns
+  /// the cells and nodes rank_boxes.owner() gives it: grid/RankBoxes.hpp,
+  /// mpm/RankPoints.hpp); fixed for the run. Set once the points are owned (empty: every
+  /// rank holds every point).
+  RankBoxes rank_boxes;
 
   explicit Model(const Grid<dim>& g) : grid(g) {}
 
@@ -209,7 +211,7 @@ struct StepInfo {
   DriverState after;   ///< the driver's state after this step (what a checkpoint of it records)
   /// Grid fields of the step, computed only when called (outputs ask for them on the
   /// steps they write); valid during the post-step stages and the observer call only.
-  /// A distributed run's are right only at the nodes the rank owns (Model::rank_cells)
+  /// A distributed run's are right only at the nodes the rank owns (Model::rank_boxes)
   /// and at the corners of its cells, and the first call of the three is collective
   /// (every rank must make it: the corners other ranks own are fetched from them).
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)

@@ -271,8 +271,8 @@ int send_points(const std::vector<int>& to, Model<dim>& model, const std::vector
 
 template <int dim>
 void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
-  if (!ranks::distributed() || !model.rank_cells.empty()) return;  // (owned: the reader made this rank's only)
-  model.rank_cells = rank_cells(model.grid, model.points.original_position, ranks::size());
+  if (!ranks::distributed() || !model.rank_boxes.empty()) return;  // (owned: the reader made this rank's only)
+  model.rank_boxes = rank_boxes(model.grid, model.points.original_position, ranks::size());
   const std::vector<int> rank = owners(model);
   std::vector<int> mine;
   for (int p = 0; p < model.points.size(); ++p)

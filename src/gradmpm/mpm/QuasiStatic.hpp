@@ -56,7 +56,7 @@ class PostStepStage {
 /// the points.
 /// The cut of the grid made from the model's points (every rank holds every point, just
 /// restored from a checkpoint, or a model built in code), and each rank keeps the points in
-/// its cells. Nothing is done when the points are owned already (Model::rank_cells set:
+/// its cells. Nothing is done when the points are owned already (Model::rank_boxes set:
 /// read_mpm_case made this rank's points only).
 template <int dim>
 void own_rank_points(Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages);

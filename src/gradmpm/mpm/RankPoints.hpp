@@ -1,20 +1,20 @@
 #pragma once
 // Which rank owns which points in a distributed run (docs/parallel.md).
 //
-// Each rank owns a run of the grid's cells in their numbering (x fastest, so slabs across
-// the grid's slowest axis, and part of a row where a cut falls inside one), and the
-// points whose current position lies in them; a cell's points (coupled by F-bar through
-// their averaged volume change) share a rank. The runs are cut once, from the points in
-// the reference configuration (their original positions), at nearly equal counts: every
-// rank finds the same cut, a restarted run too, and points that move into another rank's
-// cells change rank after the step (migrate_points, mpm/PointMigration.hpp), as in a
-// partition of the grid into boxes (PETSc's DMDA). The balance of a run drifts as the
-// body deforms.
+// Each rank owns a box of the grid's cells (grid/RankBoxes.hpp: laid out as PETSc's DMDA
+// lays out a structured grid) and the points whose current position lies in them; a
+// cell's points (coupled by F-bar through their averaged volume change) share a rank. The
+// boxes are cut once, from the points in the reference configuration (their original
+// positions), at nearly equal counts per direction: every rank finds the same cut, a
+// restarted run too, and points that move into another rank's cells change rank after
+// the step (migrate_points, mpm/PointMigration.hpp). The balance drifts as the body
+// deforms.
 #include <algorithm>
 #include <numeric>
 #include <vector>
 
 #include "gradmpm/core/Ranks.hpp"
+#include "gradmpm/grid/RankBoxes.hpp"
 #include "gradmpm/mpm/Model.hpp"
 #include "gradmpm/mpm/PointMigration.hpp"
 #include "gradmpm/mpm/PointPartition.hpp"
@@ -37,39 +37,18 @@ std::vector<int> cell_corner_keys(const Grid<dim>& grid, const std::vector<Vec<d
   return key;
 }
 
-/// The cut (see the header) from the number of points of each key (cell corner node):
-/// rank r owns the cells whose key is in [first[r], first[r + 1]); ranks + 1 entries. The
-/// same cut as partition_points' (an even cut by count, moved on past the rest of its key).
-inline std::vector<int> rank_cells_of_counts(const std::vector<long long>& per_key, int ranks) {
-  const int nk = static_cast<int>(per_key.size());
-  std::vector<long long> before(nk + 1, 0);  // points of keys < k
-  for (int k = 0; k < nk; ++k) before[k + 1] = before[k] + per_key[k];
-  const long long np = before[nk];
-  std::vector<int> first(ranks + 1, nk);
-  first[0] = 0;
-  long long previous = 0;
-  for (int r = 1; r < ranks; ++r) {
-    long long cut = std::max(previous, np * r / ranks);
-    // The key at position cut; a cut inside its key's points moves on past them.
-    int k = static_cast<int>(std::upper_bound(before.begin(), before.end(), cut) - before.begin()) - 1;
-    if (cut > 0 && cut < np && cut > before[k]) cut = before[k + 1];
-    previous = cut;
-    if (cut < np) first[r] = static_cast<int>(std::upper_bound(before.begin(), before.end(), cut) - before.begin()) - 1;
-  }
-  return first;
+/// The grid's cells per direction, as RankBoxes takes them.
+template <int dim>
+std::vector<int> cells_of(const Grid<dim>& grid) {
+  return std::vector<int>(grid.cells().begin(), grid.cells().end());
 }
 
-/// The cut from every point's original position (rank_cells_of_counts).
+/// The cut (see the header) from every point's original position (RankBoxes::of_counts).
 template <int dim>
-std::vector<int> rank_cells(const Grid<dim>& grid, const std::vector<Vec<dim>>& original, int ranks) {
+RankBoxes rank_boxes(const Grid<dim>& grid, const std::vector<Vec<dim>>& original, int ranks) {
   std::vector<long long> per_key(grid.num_nodes(), 0);
   for (const int k : cell_corner_keys(grid, original)) ++per_key[k];
-  return rank_cells_of_counts(per_key, ranks);
-}
-
-/// The rank that owns the cell of key `key` under the cut `first` (rank_cells).
-inline int owner_of(const std::vector<int>& first, int key) {
-  return static_cast<int>(std::upper_bound(first.begin(), first.end() - 1, key) - first.begin()) - 1;
+  return RankBoxes::of_counts(cells_of(grid), per_key, ranks);
 }
 
 /// The points of each of `ranks` ranks: the cells cut by the points at `original`
@@ -80,13 +59,13 @@ PointPartition points_of_ranks(const Grid<dim>& grid, const std::vector<Vec<dim>
                                const std::vector<Vec<dim>>& current, int ranks) {
   const int np = static_cast<int>(current.size());
   if (ranks == 1) return every_point(np);
-  const std::vector<int> first = rank_cells(grid, original, ranks);
+  const RankBoxes boxes = rank_boxes(grid, original, ranks);
   const std::vector<int> key = cell_corner_keys(grid, current);
   std::vector<int> rank_of(np);
   PointPartition part;
   part.start.assign(ranks + 1, 0);
   for (int p = 0; p < np; ++p) {
-    rank_of[p] = owner_of(first, key[p]);
+    rank_of[p] = boxes.owner(key[p]);
     ++part.start[rank_of[p] + 1];
   }
   for (int r = 0; r < ranks; ++r) part.start[r + 1] += part.start[r];
@@ -96,19 +75,19 @@ PointPartition points_of_ranks(const Grid<dim>& grid, const std::vector<Vec<dim>
   return part;
 }
 
-/// The rank that owns each position x under the cut `first` (rank_cells): its cell's owner.
+/// The rank that owns each position x under the cut `boxes` (rank_boxes): its cell's owner.
 template <int dim>
-std::vector<int> owners(const Grid<dim>& grid, const std::vector<int>& first, const std::vector<Vec<dim>>& x) {
+std::vector<int> owners(const Grid<dim>& grid, const RankBoxes& boxes, const std::vector<Vec<dim>>& x) {
   const std::vector<int> key = cell_corner_keys(grid, x);
   std::vector<int> rank(key.size());
-  for (std::size_t p = 0; p < key.size(); ++p) rank[p] = owner_of(first, key[p]);
+  for (std::size_t p = 0; p < key.size(); ++p) rank[p] = boxes.owner(key[p]);
   return rank;
 }
 
-/// The rank each of the model's points belongs to now (its current cell under m.rank_cells).
+/// The rank each of the model's points belongs to now (its current cell under m.rank_boxes).
 template <int dim>
 std::vector<int> owners(const Model<dim>& m) {
-  return owners(m.grid, m.rank_cells, m.points.position);
+  return owners(m.grid, m.rank_boxes, m.points.position);
 }
 
 /// Applies a migration to the model's points: every array, the state block, the ids.

@@ -9,6 +9,7 @@
 
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Types.hpp"
+#include "gradmpm/grid/RankBoxes.hpp"
 #include "gradmpm/points/Transfer.hpp"
 
 namespace gradmpm {
@@ -21,56 +22,54 @@ class DofMap {
   /// `every_node`: the active nodes are the union over the ranks of their stencils' nodes
   /// (an all-reduce of one integer per grid node), and every rank knows every node's
   /// equations. A margin m >= 0: each rank learns the equations of the nodes it owns, of
-  /// its stencils' nodes, and of the nodes within m node indices of its run (for the
+  /// its stencils' nodes, and of the nodes within m node layers of its box (for the
   /// ghost penalty's faces and its grid piece), from their owners: neighbour messages
   /// only. The other nodes read as inactive on that rank (active() false).
   static constexpr int every_node = -1;
 
-  /// The nodes of the stencils `st`. `rank_nodes`: a distributed run's cut of the grid
-  /// nodes (Model::rank_cells: rank r owns nodes [rank_nodes[r], rank_nodes[r + 1]),
-  /// ranks + 1 entries), given on every rank with that rank's points' stencils: the
-  /// active nodes are then those of every rank's stencils, numbered in increasing index
-  /// (the same equation of a node on every rank that knows it: see `margin` above), and
-  /// rank_rows() says which equations each rank owns. Empty: a serial run.
+  /// The nodes of the stencils `st`. `boxes`: a distributed run's partition of the grid
+  /// (Model::rank_boxes: rank r owns the nodes boxes.owner() gives it), given on every
+  /// rank with that rank's points' stencils: the active nodes are then those of every
+  /// rank's stencils, numbered by their owners, rank after rank, each rank's in
+  /// increasing index (the same equation of a node on every rank that knows it: see
+  /// `margin` above), and rank_rows() says which equations each rank owns. Empty: a
+  /// serial run, the active nodes numbered in increasing index.
   template <int dim>
-  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp, const std::vector<int>& rank_nodes = {},
-         int margin = every_node)
+  DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp, const RankBoxes& boxes = {}, int margin = every_node)
       : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
     for (const auto& s : st)
       for (int a = 0; a < s.count; ++a) eq_of_node_[s.node[a]] = 0;
-    if (!rank_nodes.empty() && static_cast<int>(rank_nodes.size()) != ranks::size() + 1)
-      throw std::logic_error("DofMap: a cut of the grid nodes needs one more entry than there are ranks");
-    if (!rank_nodes.empty() && margin >= 0) {
-      number_by_owners(rank_nodes, margin);
+    if (boxes.empty()) {
+      if (ranks::distributed())  // each rank would number only its own points' nodes
+        throw std::logic_error("DofMap: a distributed run's numbering needs the partition of the grid (Model::rank_boxes)");
+      for (int n = 0; n < num_nodes; ++n)
+        if (eq_of_node_[n] == 0) {
+          eq_of_node_[n] = static_cast<int>(node_of_eq_.size());
+          node_of_eq_.push_back(n);
+        }
       return;
     }
-    if (!rank_nodes.empty()) ranks::max(eq_of_node_.data(), eq_of_node_.size());
+    if (boxes.size() != ranks::size() || boxes.num_nodes() != num_nodes)
+      throw std::logic_error("DofMap: the partition of the grid must have one box per rank and the grid's nodes");
+    if (margin >= 0) {
+      number_by_owners(boxes, margin);
+      return;
+    }
+    ranks::max(eq_of_node_.data(), eq_of_node_.size());
+    // Each owner's active nodes, rank after rank.
+    std::vector<int> count(ranks::size() + 1, 0);
+    for (int n = 0; n < num_nodes; ++n)
+      if (eq_of_node_[n] == 0) ++count[boxes.owner(n) + 1];
+    for (int r = 0; r < ranks::size(); ++r) count[r + 1] += count[r];
+    node_of_eq_.resize(count.back());
+    rank_rows_.resize(count.size());
+    for (std::size_t r = 0; r < count.size(); ++r) rank_rows_[r] = count[r] * ncomp_;
     for (int n = 0; n < num_nodes; ++n)
       if (eq_of_node_[n] == 0) {
-        eq_of_node_[n] = static_cast<int>(node_of_eq_.size());
-        node_of_eq_.push_back(n);
+        const int e = count[boxes.owner(n)]++;
+        eq_of_node_[n] = e;
+        node_of_eq_[e] = n;
       }
-    if (rank_nodes.empty()) {
-      if (ranks::distributed())  // each rank would number only its own points' nodes
-        throw std::logic_error("DofMap: a distributed run's numbering needs the cut of the grid nodes (Model::rank_cells)");
-      return;
-    }
-    rank_rows_ = rows_of(rank_nodes);
-  }
-
-  /// The equations of the active nodes in each run of a cut of the grid nodes (`cut`:
-  /// part r is nodes [cut[r], cut[r + 1]), from 0 to num_grid_nodes()): part r's
-  /// equations are [rows[r], rows[r + 1]). Nodes are numbered in increasing index, so
-  /// the active nodes of a run of node indices are a run of equations.
-  std::vector<int> rows_of(const std::vector<int>& cut) const {
-    if (partial_) throw std::logic_error("DofMap::rows_of needs a numbering that knows every node");
-    if (cut.size() < 2 || cut.front() != 0 || cut.back() != num_grid_nodes() || !std::is_sorted(cut.begin(), cut.end()))
-      throw std::logic_error("DofMap: a cut of the grid nodes must run from 0 to the number of nodes, ascending");
-    std::vector<int> rows(cut.size());
-    for (std::size_t r = 0; r < cut.size(); ++r)
-      rows[r] = static_cast<int>(std::lower_bound(node_of_eq_.begin(), node_of_eq_.end(), cut[r]) - node_of_eq_.begin()) *
-                ncomp_;
-    return rows;
   }
 
   /// A distributed run's: rank r owns equations [rank_rows()[r], rank_rows()[r + 1])
@@ -115,30 +114,33 @@ class DofMap {
   }
 
  private:
-  /// Each rank numbers the active nodes of its run after the ranks before it: the nodes
-  /// its stencils reach in other runs (and those within `margin` of its run) are sent to
-  /// their owners (the NBX consensus: neighbours only), which mark the reached ones
-  /// active, number their run, and answer each node's equation (or -1: inactive).
-  void number_by_owners(const std::vector<int>& rank_nodes, int margin) {
+  /// Each rank numbers the active nodes of its box after the ranks before it: the nodes
+  /// its stencils reach in other boxes (and those within `margin` node layers of its box)
+  /// are sent to their owners (the NBX consensus: neighbours only), which mark the
+  /// reached ones active, number their own, and answer each node's equation (or -1:
+  /// inactive).
+  void number_by_owners(const RankBoxes& boxes, int margin) {
     partial_ = true;
     const int me = ranks::rank(), size = ranks::size(), num_nodes = num_grid_nodes();
-    const int first = rank_nodes[me], last = rank_nodes[me + 1];
-    auto owner = [&](int n) {
-      return static_cast<int>(std::upper_bound(rank_nodes.begin(), rank_nodes.end(), n) - rank_nodes.begin()) - 1;
-    };
-    // The nodes this rank needs from others, ascending (so grouped by owner in rank
-    // order), each with whether its stencils reach it.
+    // The nodes this rank needs from others, ascending, grouped by owner in rank order,
+    // each with whether its stencils reach it.
+    std::vector<std::vector<int>> to(size);
+    for (int n = 0; n < num_nodes; ++n) {
+      const int r = boxes.owner(n);
+      if (r == me) continue;
+      const bool reached = eq_of_node_[n] == 0;
+      if (!reached && !boxes.near(me, n, margin)) continue;
+      to[r].push_back(n);
+    }
     std::vector<int> asked, items;
     std::vector<long long> count(size, 0);
-    const int low = std::max(0, first - margin), high = std::min(num_nodes, last + margin);
-    for (int n = 0; n < num_nodes; ++n) {
-      if (n >= first && n < last) continue;
-      const bool reached = eq_of_node_[n] == 0;
-      if (!reached && (n < low || n >= high)) continue;
-      asked.push_back(n);
-      items.push_back(n);
-      items.push_back(reached ? 1 : 0);
-      ++count[owner(n)];
+    for (int r = 0; r < size; ++r) {
+      count[r] = static_cast<long long>(to[r].size());
+      for (const int n : to[r]) {
+        asked.push_back(n);
+        items.push_back(n);
+        items.push_back(eq_of_node_[n] == 0 ? 1 : 0);
+      }
     }
     const ranks::Neighbours to_owners = ranks::neighbours_of(count);
     const std::vector<char> got = ranks::exchange(to_owners, reinterpret_cast<const char*>(items.data()), 2 * sizeof(int));
@@ -146,12 +148,13 @@ class DofMap {
     if (!got.empty()) std::memcpy(received.data(), got.data(), got.size());
     for (std::size_t k = 0; k < received.size(); k += 2) {
       const int n = received[k];
-      if (n < first || n >= last) throw std::logic_error("DofMap: a rank asked for a node this rank does not own");
+      if (n < 0 || n >= num_nodes || boxes.owner(n) != me)
+        throw std::logic_error("DofMap: a rank asked for a node this rank does not own");
       if (received[k + 1]) eq_of_node_[n] = 0;
     }
-    // This rank's run, numbered after the ranks before it.
+    // This rank's nodes, numbered after the ranks before it.
     int own = 0;
-    for (int n = first; n < last; ++n) own += eq_of_node_[n] == 0;
+    boxes.for_each_node(me, [&](int n) { own += eq_of_node_[n] == 0; });
     const std::vector<int> counts = ranks::all_gather({own});
     int offset = 0, total = 0;
     rank_rows_.assign(size + 1, 0);
@@ -161,11 +164,13 @@ class DofMap {
       rank_rows_[r + 1] = rank_rows_[r] + counts[r] * ncomp_;
     }
     node_of_eq_.assign(total, -1);
-    for (int n = first, e = offset; n < last; ++n)
+    int e = offset;
+    boxes.for_each_node(me, [&](int n) {
       if (eq_of_node_[n] == 0) {
         eq_of_node_[n] = e;
         node_of_eq_[e++] = n;
       }
+    });
     // The answers: each asked node's equation, back in the order asked.
     std::vector<int> answers(received.size() / 2);
     for (std::size_t k = 0; k < answers.size(); ++k) answers[k] = eq_of_node_[received[2 * k]];
