@@ -25,6 +25,7 @@
 // footing's collapse load by 10 % at alpha = 0.01: measured, docs/plasticity.md).
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <vector>
 
 #include "gradmpm/core/Ranks.hpp"
@@ -47,9 +48,12 @@ class GhostFaces {
   };
 
   /// alpha: the dimensionless factor (gamma = alpha E). `boxes`: a distributed run's
-  /// partition of the grid (Model::rank_boxes), `pts` being this rank's points: the
-  /// cells' occupancy is that of every rank's, and the rank keeps the faces whose lowest
-  /// node it owns (each face in one rank's share, its nodes near the rank's rows).
+  /// partition of the grid (Model::rank_boxes), `pts` being this rank's points (at the
+  /// start of a load step, every point in its cells): the rank keeps the faces whose
+  /// lowest node it owns (each face in one rank's share, its nodes near the rank's rows),
+  /// those between a cell of its box and the next cell up in x, y or z, and learns the
+  /// occupancy of such a next cell in another rank's box from that rank (neighbour
+  /// messages; before 2026-12-05, a max over every cell of the grid on every rank).
   GhostFaces(const Grid<dim>& grid, const MaterialPoints<dim>& pts,
              const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
              const RankBoxes& boxes = {}) {
@@ -66,10 +70,7 @@ class GhostFaces {
         ++points_in[k];
         young[k] = std::max(young[k], materials[pts.material[p]]->elasticity().young);
       }
-    if (over_ranks) {
-      ranks::max(points_in.data(), points_in.size());
-      ranks::max(young.data(), young.size());
-    }
+    if (over_ranks) share_occupancy(grid, boxes, points_in, young);
     // Active cells (every node with dofs) and boundary cells (active; empty or beside an empty cell).
     std::vector<char> active(nc, 0), boundary(nc, 0);
     for (int k = 0; k < nc; ++k) {
@@ -86,6 +87,8 @@ class GhostFaces {
     const Vec<dim>& h = grid.cell_size();
     for (int k = 0; k < nc; ++k) {
       const Index left = cell_index(n, k);
+      // A face's lowest node is its lower cell's key (every corner active): its owner's.
+      if (over_ranks && boxes.owner(grid.node_index(left)) != ranks::rank()) continue;
       for (int d = 0; d < dim; ++d) {
         if (left[d] + 1 >= n[d]) continue;
         Index right = left;
@@ -97,17 +100,49 @@ class GhostFaces {
         add_face(grid, dofs, left, d, alpha * E, h);
       }
     }
-    if (over_ranks) {
-      faces_.erase(std::remove_if(faces_.begin(), faces_.end(),
-                                  [&](const Face& F) {
-                                    const int lowest = *std::min_element(F.node.begin(), F.node.begin() + F.count);
-                                    return boxes.owner(lowest) != ranks::rank();
-                                  }),
-                   faces_.end());
-    }
   }
 
   const std::vector<Face>& faces() const { return faces_; }
+
+  /// The occupancy (points, stiffest Young's modulus) of the cells next to this rank's
+  /// box across its upper sides, from their owners: each rank sends the cells of its box's
+  /// lower sides to the owner of the cell below them in that direction.
+  static void share_occupancy(const Grid<dim>& grid, const RankBoxes& boxes, std::vector<int>& points_in,
+                              std::vector<double>& young) {
+    struct Cell {
+      int number, points;
+      double young;
+    };
+    const auto& n = grid.cells();
+    const int me = ranks::rank();
+    const RankBoxes::Box box = boxes.box(me);
+    std::vector<std::vector<Cell>> to(ranks::size());
+    boxes.for_each_cell(me, [&](int key) {
+      const Index c = grid.node_ijk(key);
+      const int k = cell_number(n, c);
+      for (int d = 0; d < dim; ++d) {
+        if (c[d] != box.lo[d] || c[d] == 0) continue;
+        Index below = c;
+        --below[d];
+        const int r = boxes.owner(grid.node_index(below));
+        if (to[r].empty() || to[r].back().number != k) to[r].push_back({k, points_in[k], young[k]});
+      }
+    });
+    std::vector<long long> count(ranks::size());
+    std::vector<Cell> items;
+    for (int r = 0; r < ranks::size(); ++r) {
+      count[r] = static_cast<long long>(to[r].size());
+      items.insert(items.end(), to[r].begin(), to[r].end());
+    }
+    const std::vector<char> got =
+        ranks::exchange(ranks::neighbours_of(count), reinterpret_cast<const char*>(items.data()), sizeof(Cell));
+    std::vector<Cell> received(got.size() / sizeof(Cell));
+    if (!got.empty()) std::memcpy(received.data(), got.data(), got.size());
+    for (const Cell& cell : received) {
+      points_in[cell.number] = cell.points;
+      young[cell.number] = cell.young;
+    }
+  }
   int size() const { return static_cast<int>(faces_.size()); }
 
   /// f += G du (each displacement component independently).
