@@ -6,6 +6,7 @@
 
 #include <Eigen/QR>
 
+#include "gradmpm/grid/NodeSums.hpp"
 #include "gradmpm/solver/SparsePattern.hpp"
 
 namespace gradmpm {
@@ -24,18 +25,25 @@ constexpr double kWeakNode = 1e-8;
 /// 1e-4 of the largest), so kappa_bar changes by as little. The step's own cut-off
 /// (drop_weak_nodes, with F-bar) does not catch them: it bounds the support sum N v, which
 /// is linear in N, and that node's was above it; the diagonal here is quadratic. (A
-/// distributed run's diagonal is that of every rank's points.)
+/// distributed run's diagonal is that of every rank's points, summed at the nodes' owners.)
 template <int dim>
 PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> st, const std::vector<bool>& on) {
   for (int p = 0; p < m.points.size(); ++p)
     if (!on[m.points.material[p]]) st[p].count = 0;
   const double l2 = m.regularisation.length_scale * m.regularisation.length_scale;
   std::vector<double> diagonal(m.grid.num_nodes(), 0.0);
+  std::vector<char> touched(m.rank_boxes.empty() ? 0 : m.grid.num_nodes(), 0);
   for (int p = 0; p < m.points.size(); ++p)
-    for (int a = 0; a < st[p].count; ++a)
+    for (int a = 0; a < st[p].count; ++a) {
       diagonal[st[p].node[a]] += m.points.volume[p] * (st[p].N[a] * st[p].N[a] + l2 * st[p].dN[a].squaredNorm());
-  ranks::sum(diagonal.data(), diagonal.size());
-  const double weak = kWeakNode * *std::max_element(diagonal.begin(), diagonal.end());
+      if (!touched.empty()) touched[st[p].node[a]] = 1;
+    }
+  // (A distributed run: the totals at this rank's own and stencils' nodes, then the
+  // largest over the ranks.)
+  if (!m.rank_boxes.empty()) sum_at_owners(m.rank_boxes, diagonal, touched);
+  double largest = *std::max_element(diagonal.begin(), diagonal.end());
+  if (!m.rank_boxes.empty()) ranks::max(&largest, 1);
+  const double weak = kWeakNode * largest;
   drop_nodes(st, [&](int node) { return diagonal[node] < weak; });
   return st;
 }

@@ -398,7 +398,8 @@ class LoadStep {
   /// `ids`: a distributed run's (the supports and failures of every rank's points).
   static PointStencils<dim> stencils(const Model<dim>& m, const std::vector<int>* ids) {
     PointStencils<dim> st = evaluate_stencils(m.grid, m.points, m.basis, ids);
-    if (m.fbar) drop_weak_nodes(st, m.points, m.grid.num_nodes(), m.grid.cell_size().prod(), 1e-8, ids != nullptr);
+    if (m.fbar)
+      drop_weak_nodes(st, m.points, m.grid.num_nodes(), m.grid.cell_size().prod(), 1e-8, ids ? &m.rank_boxes : nullptr);
     return st;
   }
 

@@ -19,6 +19,7 @@
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/grid/Grid.hpp"
+#include "gradmpm/grid/NodeSums.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 
 namespace gradmpm {
@@ -102,15 +103,21 @@ void drop_nodes(PointStencils<dim>& st, Drop&& drop) {
 /// support by round-off) has an equation of near-zero stiffness, and Newton's correction
 /// there is unbounded (the footing of docs/plasticity.md: singular values 1e-16 of the
 /// largest). Returns how many nodes were dropped; their shape functions are left out,
-/// an error of the order of `relative` in the partition of unity. `over_ranks`: the
-/// points are a distributed run's rank's; the supports are summed over the ranks.
+/// an error of the order of `relative` in the partition of unity. `boxes`: a
+/// distributed run's partition (the points being its rank's): the supports at this
+/// rank's stencils' nodes are summed over the ranks at their owners (sum_at_owners), and
+/// the count returned is of the nodes this rank's stencils reach.
 template <int dim>
 int drop_weak_nodes(PointStencils<dim>& st, const MaterialPoints<dim>& points, int num_nodes, double cell_volume,
-                    double relative, bool over_ranks = false) {
+                    double relative, const RankBoxes* boxes = nullptr) {
   std::vector<double> support(num_nodes, 0.0);
+  std::vector<char> touched(boxes ? num_nodes : 0, 0);
   for (std::size_t p = 0; p < st.size(); ++p)
-    for (int a = 0; a < st[p].count; ++a) support[st[p].node[a]] += st[p].N[a] * points.volume[p];
-  if (over_ranks) ranks::sum(support.data(), support.size());
+    for (int a = 0; a < st[p].count; ++a) {
+      support[st[p].node[a]] += st[p].N[a] * points.volume[p];
+      if (boxes) touched[st[p].node[a]] = 1;
+    }
+  if (boxes) sum_at_owners(*boxes, support, touched);
   const double floor = relative * cell_volume;
   int dropped = 0;
   for (int n = 0; n < num_nodes; ++n) dropped += support[n] > 0.0 && support[n] < floor;
