@@ -77,17 +77,42 @@ class RankBoxes {
     const int dim = static_cast<int>(cells.size());
     std::vector<std::vector<long long>> per_layer(dim);
     for (int d = 0; d < dim; ++d) per_layer[d].assign(cells[d], 0);
-    std::vector<std::pair<int, long long>> occupied;  // (node, count) of the keys that hold points
-    for (int n = 0; n < static_cast<int>(per_node.size()); ++n) {
+    // The counts summed over the cells below each node (a summed-area table on the nodes'
+    // lattice: below[n] holds the points of the cells [0, i) x [0, j) x [0, k) for node
+    // (i, j, k)), so that any box's points are 2^dim lookups.
+    std::array<long long, 3> size{1, 1, 1};
+    for (int d = 0; d < dim; ++d) size[d] = cells[d] + 1;
+    std::vector<long long> below(per_node.size(), 0);
+    for (long long n = 0; n < static_cast<long long>(per_node.size()); ++n) {
       if (per_node[n] == 0) continue;
-      occupied.emplace_back(n, per_node[n]);
-      int rest = n;
+      long long rest = n, up = 0, stride = 1;
       for (int d = 0; d < dim; ++d) {
-        const int i = rest % (cells[d] + 1);
-        rest /= cells[d] + 1;
+        const int i = static_cast<int>(rest % size[d]);
+        rest /= size[d];
         per_layer[d][std::min(i, cells[d] - 1)] += per_node[n];
+        up += stride * (std::min(i, cells[d] - 1) + 1);  // the node above the cell in every direction
+        stride *= size[d];
       }
+      below[up] += per_node[n];
     }
+    for (int d = 0, stride = 1; d < dim; stride *= static_cast<int>(size[d]), ++d)
+      for (long long n = 0; n < static_cast<long long>(below.size()); ++n)
+        if ((n / stride) % size[d] > 0) below[n] += below[n - stride];
+    auto points_in = [&](const Box& b) {
+      long long sum = 0;
+      for (int corner = 0; corner < (1 << dim); ++corner) {
+        long long n = 0, stride = 1;
+        int lows = 0;
+        for (int d = 0; d < dim; ++d) {
+          const bool low = !((corner >> d) & 1);
+          lows += low;
+          n += stride * (low ? b.lo[d] : b.hi[d]);
+          stride *= size[d];
+        }
+        sum += lows % 2 ? -below[n] : below[n];
+      }
+      return sum;
+    };
     // The body's extent in cells along each direction (for the cut surface).
     std::vector<double> extent(dim);
     for (int d = 0; d < dim; ++d) {
@@ -109,8 +134,8 @@ class RankBoxes {
       std::vector<std::vector<int>> cuts(dim);
       for (int d = 0; d < dim; ++d) cuts[d] = cut_at_counts(per_layer[d], m[d]);
       RankBoxes boxes(cells, cuts);
-      std::vector<long long> held(ranks, 0);
-      for (const auto& [n, count] : occupied) held[boxes.owner(n)] += count;
+      long long fullest = 0;
+      for (int r = 0; r < ranks; ++r) fullest = std::max(fullest, points_in(boxes.box(r)));
       double surface = 0.0;
       for (int d = 0; d < dim; ++d) {
         double across = m[d] - 1;
@@ -118,7 +143,7 @@ class RankBoxes {
           if (e != d) across *= extent[e];
         surface += across;
       }
-      candidates.push_back({std::move(boxes), *std::max_element(held.begin(), held.end()), surface, m});
+      candidates.push_back({std::move(boxes), fullest, surface, m});
     };
     auto arrays = [&](auto&& self, int d, int left) -> void {
       if (d == dim - 1) {
