@@ -13,8 +13,11 @@
 // decision never differs between ranks). A load step's vectors are summed in the rows
 // each rank owns or reads only, between neighbours (solver/RowHalo.hpp).
 #include <cstddef>
+#include <cstring>
 #include <functional>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "gradmpm/core/Errors.hpp"
@@ -84,6 +87,50 @@ Neighbours neighbours_of(const std::vector<long long>& send_counts);
 /// destination in rank order (n.to_count each); returns the items received, grouped by
 /// source in rank order (n.from_count each). Point-to-point messages to the neighbours only.
 std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes);
+
+/// exchange() of typed items (plain data, copied bytewise).
+template <class T>
+std::vector<T> exchange(const Neighbours& n, const std::vector<T>& send) {
+  static_assert(std::is_trivially_copyable_v<T>, "ranks::exchange sends items as bytes");
+  const std::vector<char> got = exchange(n, reinterpret_cast<const char*>(send.data()), sizeof(T));
+  std::vector<T> received(got.size() / sizeof(T));
+  if (!got.empty()) std::memcpy(static_cast<void*>(received.data()), got.data(), got.size());
+  return received;
+}
+
+/// What send_to() sent and received: `sent` the items in rank order of destination (the
+/// order in which answers come back through `with.reversed()`), `received` the items
+/// that came, grouped by source in rank order.
+template <class T>
+struct Sent {
+  Neighbours with;
+  std::vector<T> sent, received;
+};
+
+/// Sends to[r] to rank r (to[me] kept) to the ranks with items only (neighbours_of: no
+/// all-to-all). A collective call.
+template <class T>
+Sent<T> send_to(const std::vector<std::vector<T>>& to) {
+  Sent<T> s;
+  std::vector<long long> count(to.size());
+  for (std::size_t r = 0; r < to.size(); ++r) {
+    count[r] = static_cast<long long>(to[r].size());
+    s.sent.insert(s.sent.end(), to[r].begin(), to[r].end());
+  }
+  s.with = neighbours_of(count);
+  s.received = ranks::exchange(s.with, s.sent);
+  return s;
+}
+
+/// The answers (one per item received) to the items s.received, back to their senders:
+/// one per item of s.sent, in its order. A collective call.
+template <class T, class A>
+std::vector<A> answer(const Sent<T>& s, const std::vector<A>& answers) {
+  if (answers.size() != s.received.size()) throw std::logic_error("ranks::answer: one answer per item received expected");
+  std::vector<A> back = ranks::exchange(s.with.reversed(), answers);
+  if (back.size() != s.sent.size()) throw std::logic_error("ranks::answer: the answers do not match the items sent");
+  return back;
+}
 
 /// Every rank's `mine` on rank 0, in rank order (empty on the other ranks).
 std::vector<std::string> gather_on_root(const std::string& mine);

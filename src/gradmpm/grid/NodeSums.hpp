@@ -5,7 +5,6 @@
 // its parts at the nodes it touches and others own to their owners (the NBX consensus),
 // each owner adds them to its own part, in the senders' rank order, and sends the totals
 // back, so every rank that holds a node's total holds the same bits.
-#include <cstring>
 #include <vector>
 
 #include "gradmpm/core/Ranks.hpp"
@@ -21,30 +20,19 @@ inline void sum_at_owners(const RankBoxes& boxes, std::vector<double>& value, co
     int node;
     double value;
   };
-  const int me = ranks::rank(), size = ranks::size();
-  std::vector<std::vector<Item>> to(size);
+  const int me = ranks::rank();
+  std::vector<std::vector<Item>> to(ranks::size());
   for (int n = 0; n < static_cast<int>(value.size()); ++n)
     if (touched[n]) {
       const int r = boxes.owner(n);
       if (r != me) to[r].push_back({n, value[n]});
     }
-  std::vector<long long> count(size);
-  std::vector<Item> items;
-  for (int r = 0; r < size; ++r) {
-    count[r] = static_cast<long long>(to[r].size());
-    items.insert(items.end(), to[r].begin(), to[r].end());
-  }
-  const ranks::Neighbours to_owners = ranks::neighbours_of(count);
-  const std::vector<char> got = ranks::exchange(to_owners, reinterpret_cast<const char*>(items.data()), sizeof(Item));
-  std::vector<Item> received(got.size() / sizeof(Item));
-  if (!got.empty()) std::memcpy(received.data(), got.data(), got.size());
-  for (const Item& item : received) value[item.node] += item.value;
-  std::vector<double> totals(received.size());
-  for (std::size_t k = 0; k < received.size(); ++k) totals[k] = value[received[k].node];
-  const std::vector<char> back =
-      ranks::exchange(to_owners.reversed(), reinterpret_cast<const char*>(totals.data()), sizeof(double));
-  if (back.size() != items.size() * sizeof(double)) throw std::logic_error("sum_at_owners: the owners' answers do not match");
-  for (std::size_t k = 0; k < items.size(); ++k) std::memcpy(&value[items[k].node], back.data() + k * sizeof(double), sizeof(double));
+  const ranks::Sent<Item> s = ranks::send_to(to);
+  for (const Item& item : s.received) value[item.node] += item.value;
+  std::vector<double> totals(s.received.size());
+  for (std::size_t k = 0; k < totals.size(); ++k) totals[k] = value[s.received[k].node];
+  const std::vector<double> back = ranks::answer(s, totals);
+  for (std::size_t k = 0; k < back.size(); ++k) value[s.sent[k].node] = back[k];
 }
 
 }  // namespace gradmpm

@@ -25,7 +25,6 @@
 // footing's collapse load by 10 % at alpha = 0.01: measured, docs/plasticity.md).
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <vector>
 
 #include "gradmpm/core/Ranks.hpp"
@@ -128,16 +127,7 @@ class GhostFaces {
         if (to[r].empty() || to[r].back().number != k) to[r].push_back({k, points_in[k], young[k]});
       }
     });
-    std::vector<long long> count(ranks::size());
-    std::vector<Cell> items;
-    for (int r = 0; r < ranks::size(); ++r) {
-      count[r] = static_cast<long long>(to[r].size());
-      items.insert(items.end(), to[r].begin(), to[r].end());
-    }
-    const std::vector<char> got =
-        ranks::exchange(ranks::neighbours_of(count), reinterpret_cast<const char*>(items.data()), sizeof(Cell));
-    std::vector<Cell> received(got.size() / sizeof(Cell));
-    if (!got.empty()) std::memcpy(received.data(), got.data(), got.size());
+    const std::vector<Cell> received = ranks::send_to(to).received;
     for (const Cell& cell : received) {
       points_in[cell.number] = cell.points;
       young[cell.number] = cell.young;

@@ -3,7 +3,6 @@
 // functions some point touches take part in a load step (AMPLE's "active nodes");
 // the others carry no equation. Equation of (node, component) = eq(node)*ncomp + comp.
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -120,37 +119,25 @@ class DofMap {
   /// reached ones active, number their own, and answer each node's equation (or -1:
   /// inactive).
   void number_by_owners(const RankBoxes& boxes, int margin) {
-    partial_ = true;
     const int me = ranks::rank(), size = ranks::size(), num_nodes = num_grid_nodes();
     // The nodes this rank needs from others, ascending, grouped by owner in rank order,
     // each with whether its stencils reach it.
-    std::vector<std::vector<int>> to(size);
+    struct Ask {
+      int node, reached;
+    };
+    std::vector<std::vector<Ask>> to(size);
     for (int n = 0; n < num_nodes; ++n) {
       const int r = boxes.owner(n);
       if (r == me) continue;
       const bool reached = eq_of_node_[n] == 0;
       if (!reached && !boxes.near(me, n, margin)) continue;
-      to[r].push_back(n);
+      to[r].push_back({n, reached ? 1 : 0});
     }
-    std::vector<int> asked, items;
-    std::vector<long long> count(size, 0);
-    for (int r = 0; r < size; ++r) {
-      count[r] = static_cast<long long>(to[r].size());
-      for (const int n : to[r]) {
-        asked.push_back(n);
-        items.push_back(n);
-        items.push_back(eq_of_node_[n] == 0 ? 1 : 0);
-      }
-    }
-    const ranks::Neighbours to_owners = ranks::neighbours_of(count);
-    const std::vector<char> got = ranks::exchange(to_owners, reinterpret_cast<const char*>(items.data()), 2 * sizeof(int));
-    std::vector<int> received(got.size() / sizeof(int));
-    if (!got.empty()) std::memcpy(received.data(), got.data(), got.size());
-    for (std::size_t k = 0; k < received.size(); k += 2) {
-      const int n = received[k];
-      if (n < 0 || n >= num_nodes || boxes.owner(n) != me)
+    const ranks::Sent<Ask> asked = ranks::send_to(to);
+    for (const Ask& a : asked.received) {
+      if (a.node < 0 || a.node >= num_nodes || boxes.owner(a.node) != me)
         throw std::logic_error("DofMap: a rank asked for a node this rank does not own");
-      if (received[k + 1]) eq_of_node_[n] = 0;
+      if (a.reached) eq_of_node_[a.node] = 0;
     }
     // This rank's nodes, numbered after the ranks before it.
     int own = 0;
@@ -172,18 +159,15 @@ class DofMap {
       }
     });
     // The answers: each asked node's equation, back in the order asked.
-    std::vector<int> answers(received.size() / 2);
-    for (std::size_t k = 0; k < answers.size(); ++k) answers[k] = eq_of_node_[received[2 * k]];
-    const std::vector<char> reply = ranks::exchange(to_owners.reversed(), reinterpret_cast<const char*>(answers.data()), sizeof(int));
-    if (reply.size() != asked.size() * sizeof(int)) throw std::logic_error("DofMap: the owners' answers do not match");
-    const int* eq = reinterpret_cast<const int*>(reply.data());
-    for (std::size_t k = 0; k < asked.size(); ++k) {
-      eq_of_node_[asked[k]] = eq[k];
-      if (eq[k] >= 0) node_of_eq_[eq[k]] = asked[k];
+    std::vector<int> answers(asked.received.size());
+    for (std::size_t k = 0; k < answers.size(); ++k) answers[k] = eq_of_node_[asked.received[k].node];
+    const std::vector<int> eq = ranks::answer(asked, answers);
+    for (std::size_t k = 0; k < eq.size(); ++k) {
+      eq_of_node_[asked.sent[k].node] = eq[k];
+      if (eq[k] >= 0) node_of_eq_[eq[k]] = asked.sent[k].node;
     }
   }
 
-  bool partial_ = false;  ///< numbered by the owners: this rank knows only some nodes
   int ncomp_ = 1;
   std::vector<int> eq_of_node_;
   std::vector<int> node_of_eq_;
