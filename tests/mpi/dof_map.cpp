@@ -4,7 +4,9 @@
 // ranks (DofMap::every_node) wherever it looks: the same equation for each node it knows,
 // the same rows per rank, each rank's own nodes a run of equations in increasing index;
 // it knows every node it owns, every node its stencils reach (wherever they are) and the
-// nodes within the margin of its box, and no others.
+// nodes within the margin of its box, and no others; its equations are local (its vectors
+// hold the nodes it knows only): its own nodes first, as its run of global rows, then the
+// others by increasing global equation, global_rows() mapping each to the union's.
 // Run: mpirun -n N dof_map_check (exit 0: every check held).
 // The grid (24 x 24 cells) is cut into uneven boxes (2 x 2 on 4 ranks, 3 x 1 on 3);
 // each rank's stencils reach nodes in its box, the next node layers beyond it in x and
@@ -55,7 +57,8 @@ int main(int argc, char** argv) {
   const DofMap whole(st, num_nodes, 2, boxes, DofMap::every_node);
   const DofMap by_owners(st, num_nodes, 2, boxes, margin);
   if (whole.rank_rows() != by_owners.rank_rows()) fail("rank rows differ", -1, 0, 0);
-  if (whole.num_dofs() != by_owners.num_dofs()) fail("equations", -1, by_owners.num_dofs(), whole.num_dofs());
+  if (whole.num_dofs() != by_owners.num_global_dofs())
+    fail("equations", -1, by_owners.num_global_dofs(), whole.num_dofs());
   int previous = -1;  // this rank's own nodes: its rows, ascending
   boxes.for_each_node(me, [&](int n) {
     if (!whole.active(n)) return;
@@ -71,9 +74,26 @@ int main(int argc, char** argv) {
     const bool near = boxes.near(me, n, margin);
     const bool should_know = whole.active(n) && (own || near || reached[n]);
     if (by_owners.active(n) != should_know) fail("known", n, by_owners.active(n), should_know);
-    if (should_know && by_owners.dof(n, 1) != whole.dof(n, 1)) fail("equation", n, by_owners.dof(n, 1), whole.dof(n, 1));
+    if (should_know && by_owners.global_dof(n, 1) != whole.dof(n, 1))
+      fail("equation", n, by_owners.global_dof(n, 1), whole.dof(n, 1));
     if (by_owners.active(n) && by_owners.node_of(by_owners.dof(n, 0) / 2) != n) fail("node_of", n, -1, n);
+    if (by_owners.active(n) && own != (by_owners.dof(n, 0) / 2 < by_owners.own_nodes_last()))
+      fail("own nodes first", n, by_owners.dof(n, 0), by_owners.own_nodes_last() * 2);
     known += by_owners.active(n);
+  }
+  // Local equations: exactly the known nodes; global_rows() is the union's numbering, own
+  // rows first as this rank's run, the others ascending.
+  if (by_owners.num_active_nodes() != known) fail("local nodes", -1, by_owners.num_active_nodes(), known);
+  const std::vector<int> rows = by_owners.global_rows();
+  if (size > 1 && static_cast<int>(rows.size()) != by_owners.num_dofs())
+    fail("global rows", -1, static_cast<int>(rows.size()), by_owners.num_dofs());
+  for (int row = 0; size > 1 && row < static_cast<int>(rows.size()); ++row) {
+    const int node = by_owners.node_of(row / 2);
+    if (rows[row] != whole.dof(node, row % 2)) fail("global row", node, rows[row], whole.dof(node, row % 2));
+    const bool own_row = row < by_owners.own_nodes_last() * 2;
+    if (own_row && rows[row] != whole.rank_rows()[me] + row) fail("own run", node, rows[row], whole.rank_rows()[me] + row);
+    if (!own_row && row > by_owners.own_nodes_last() * 2 && rows[row] <= rows[row - 1])
+      fail("others ascending", node, rows[row], rows[row - 1] + 1);
   }
   if (size > 2 && known >= whole.num_active_nodes()) fail("knows every active node", -1, known, whole.num_active_nodes());
   int failed = failures;

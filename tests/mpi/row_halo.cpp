@@ -2,7 +2,10 @@
 // ranks, RowHalo's neighbour exchanges give each rank what a sum of the whole vector over
 // the ranks gave, in every row it owns or reads (its ghost rows), the same bits on every
 // rank that holds a row, for one vector or several columns at once; its norms (several
-// with one reduction) are the whole summed vectors' norms. Run: mpirun -n N row_halo_check (exit 0: every check held).
+// with one reduction) are the whole summed vectors' norms; likewise with a local numbering
+// (each rank's vector holding its own rows first, then the others it touches by increasing
+// global row, as DofMap numbers a distributed load step).
+// Run: mpirun -n N row_halo_check (exit 0: every check held).
 // Each rank touches a random set of rows spread over the whole vector (far more ghosts
 // than a load step has, and ranks that touch none of some owner's rows), with values
 // that make every sum exact in floating point (small integers).
@@ -65,7 +68,34 @@ int main(int argc, char** argv) {
   halo.fetch_ghosts(fetched);
   for (const int row : touched)
     if (fetched(row, 0) != row || fetched(row, 1) != -row) fail("fetch_ghosts of columns", row, fetched(row, 0), row);
+  // Local numbering: own rows (global rank_rows[me]...) first, then the touched others.
+  std::vector<int> globals;
+  for (int row = rank_rows[me]; row < rank_rows[me + 1]; ++row) globals.push_back(row);
+  for (const int row : touched)
+    if (row < rank_rows[me] || row >= rank_rows[me + 1]) globals.push_back(row);
+  const int held = static_cast<int>(globals.size());
+  std::vector<int> local_touched(held);
+  for (int k = 0; k < held; ++k) local_touched[k] = k;
+  const RowHalo local(rank_rows, local_touched, globals);
+  if (local.first() != 0 || local.last() != rank_rows[me + 1] - rank_rows[me])
+    fail("local own rows", -1, local.last(), rank_rows[me + 1] - rank_rows[me]);
+  Vector lv(held);
+  for (int k = 0; k < held; ++k) lv[k] = v[globals[k]];
+  Vector lw = lv;
+  local.sum(lw);
+  for (int k = 0; k < held; ++k)
+    if (lw[k] != summed[globals[k]]) fail("local sum", globals[k], lw[k], summed[globals[k]]);
+  const auto local_norm = local.norms<1>({&lw});
+  if (std::abs(local_norm[0] - expected) > 1e-14 * expected) fail("local norm", -1, local_norm[0], expected);
+  Eigen::MatrixXd local_fetched = Eigen::MatrixXd::Zero(held, 2);
+  for (int k = 0; k < local.last(); ++k) local_fetched.row(k) << globals[k], -globals[k];
+  local.fetch_ghosts(local_fetched);
+  for (int k = 0; k < held; ++k)
+    if (local_fetched(k, 0) != globals[k] || local_fetched(k, 1) != -globals[k])
+      fail("local fetch_ghosts", globals[k], local_fetched(k, 0), globals[k]);
   long long ghosts = static_cast<long long>(halo.ghost_rows());
+  if (static_cast<long long>(local.ghost_rows()) != ghosts)
+    fail("local ghost rows", -1, static_cast<int>(local.ghost_rows()), static_cast<int>(ghosts));
   if (size > 1 && ghosts == 0) fail("no ghost rows", -1, 0, 1);
   int failed = failures;
   ranks::max(&failed, 1);

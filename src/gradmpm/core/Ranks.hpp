@@ -4,14 +4,14 @@
 // test program, a build without PETSc and MPI) there is one rank and every operation is
 // the identity, so serial code calls them unconditionally.
 //
-// Each rank owns the points in its run of the grid's cells (mpm/PointMigration.hpp, issue
+// Each rank owns the points in its box of the grid's cells (mpm/PointMigration.hpp, issue
 // 14): a load step and the gradient step work on them only (their stencils, Newton's point
 // loops, the sparse matrices' shares, which PETSc adds up and splits the linear solves
 // of), and after each converged step the points that moved into another rank's cells are
 // sent to it. Everything else runs identically on every rank. Sums are reduced to rank 0
 // and broadcast, so every rank sees the same bits and takes the same branches (a Newton
-// decision never differs between ranks). A load step's vectors are summed in the rows
-// each rank owns or reads only, between neighbours (solver/RowHalo.hpp).
+// decision never differs between ranks). A load step's vectors hold the rows each rank
+// owns or reads only, summed between neighbours (solver/RowHalo.hpp).
 #include <cstddef>
 #include <cstring>
 #include <functional>

@@ -35,7 +35,7 @@ class HelmholtzSmoother {
                     bool shares = false)
       : assembler_(assembler),
         solver_(make_linear_solver(solver)),
-        halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern)) : RowHalo()),
+        halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern), assembler.dofs().global_rows()) : RowHalo()),
         held_(shares ? ranks::any(!dirichlet_dofs.empty()) : !dirichlet_dofs.empty()) {
     if (shares && !solver_->adds_shares())
       throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");

@@ -148,10 +148,14 @@ class SmoothingContext {
     return u;
   }
 
-  /// sum_p N_i c_p V_p over every point (a distributed run: the ranks add their points').
-  Vector summed_load(const std::vector<double>& c) const {
+  /// sum_p N_i c_p V_p over every point (a distributed run: the ranks add their points',
+  /// in this rank's own and ghost rows, between neighbours).
+  Vector summed_load(const std::vector<double>& c) {
     Vector f = assembler_.load(c);
-    if (split_) ranks::sum(f.data(), static_cast<std::size_t>(f.size()));
+    if (split_) {
+      if (!halo_) halo_.emplace(dofs_.rank_rows(), touched_rows(pattern_), dofs_.global_rows());
+      halo_->sum(f);
+    }
     return f;
   }
 
@@ -204,6 +208,7 @@ class SmoothingContext {
   SparseMatrix pattern_;
   std::unique_ptr<HelmholtzSmoother<dim>> natural_, projector_;
   std::optional<Vector> lumped_;  ///< nodal masses (per unit density) when the consistent projection is singular
+  std::optional<RowHalo> halo_;   ///< a distributed run's rows for the lumped projection
   std::map<std::vector<int>, std::unique_ptr<HelmholtzSmoother<dim>>> by_constraints_;
 };
 

@@ -84,14 +84,13 @@ class LoadStep {
       for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
     }
     pattern_ = make_pattern();  // after the constraints
-    if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(pattern_));
+    if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(pattern_), dofs_.global_rows());
     f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
     halo_.sum(f_ext_);  // every rank's points' share, in own and ghost rows
-    if (split_) {  // this rank's points' nodal masses, in the first component's rows (grid_fields)
-      const Vector mass = nodal_mass(st_, m.points, m.grid.num_nodes());
+    if (split_) {  // this rank's points' nodal masses, in the first component's rows (grid_fields; as nodal_mass)
       mass_ = Vector::Zero(dofs_.num_dofs());
-      for (int n = 0; n < m.grid.num_nodes(); ++n)
-        if (dofs_.active(n)) mass_[dofs_.dof(n, 0)] = mass[n];
+      for (std::size_t p = 0; p < st_.size(); ++p)
+        for (int a = 0; a < st_[p].count; ++a) mass_[dofs_.dof(st_[p].node[a], 0)] += st_[p].N[a] * m.points.mass[p];
     }
   }
 
@@ -120,7 +119,7 @@ class LoadStep {
   double roundoff_force() const {
     const double young = stiffest_young(model_.materials);
     const double area = model_.grid.cell_size().prod() / model_.grid.cell_size().maxCoeff();
-    return 100.0 * std::numeric_limits<double>::epsilon() * young * area * std::sqrt(double(dofs_.num_dofs()));
+    return 100.0 * std::numeric_limits<double>::epsilon() * young * area * std::sqrt(double(dofs_.num_global_dofs()));
   }
   bool symmetric_tangent() const { return model_.symmetric_tangent(); }
 
@@ -317,7 +316,7 @@ class LoadStep {
     Vector mass = mass_;  // (the points may have moved to other ranks since: their masses as the step began)
     halo_.sum(mass);
     Vector displacement = du, reaction = reaction_;
-    const RowHalo piece(dofs_.rank_rows(), piece_rows());
+    const RowHalo piece(dofs_.rank_rows(), piece_rows(), dofs_.global_rows());
     for (Vector* v : {&displacement, &reaction, &mass}) piece.fetch_ghosts(*v);
     GridFields out{dofs_.to_grid_all(displacement), dofs_.to_grid_all(reaction), Vector::Zero(nn)};
     for (int n = 0; n < nn; ++n)
@@ -339,7 +338,7 @@ class LoadStep {
   /// nodes it learns wherever they are.
   static constexpr int ghost_margin = 3;
 
-  /// A distributed run's: the rows of the active corners of this rank's cells, ascending.
+  /// A distributed run's: the (local) rows of the active corners of this rank's cells, ascending.
   std::vector<int> piece_rows() const {
     const auto& grid = model_.grid;
     std::vector<int> rows;
@@ -369,7 +368,7 @@ class LoadStep {
     const int n_ghost = ghost_ ? ghost_->size() : 0;
     std::vector<int> constrained_nodes;
     if (split_) {  // those in this rank's rows (a constrained node its points may not reach)
-      const int first = dofs_.rank_rows()[ranks::rank()], last = dofs_.rank_rows()[ranks::rank() + 1];
+      const int first = dofs_.own_nodes_first() * dim, last = dofs_.own_nodes_last() * dim;
       for (const int dof : constrained_)
         if (dof >= first && dof < last) constrained_nodes.push_back(dofs_.node_of(dof / dim));
       std::sort(constrained_nodes.begin(), constrained_nodes.end());

@@ -1,7 +1,7 @@
 #pragma once
 // How a distributed run's points move between ranks (docs/parallel.md, issue 14).
 //
-// Each rank owns the points in its run of the grid's cells (mpm/RankPoints.hpp) and holds
+// Each rank owns the points in its box of the grid's cells (mpm/RankPoints.hpp) and holds
 // only them, with every per-point array that goes with them: the points' own arrays and
 // state block (Model::points), their ids in the whole body (Model::point_ids) and what a
 // post-step stage carries at them (the gradient step's accumulated fields). When points

@@ -336,7 +336,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
           throw SolverError(fmt::format("load step {} (load factor {:.6g}): {}", summary.steps + 1, lambda, e.what()));
         }
         info.phases.pattern = seconds_since(t0);
-        info.dofs = step->dofs().num_dofs();
+        info.dofs = step->dofs().num_global_dofs();
         info.nonzeros = step->pattern().nonZeros();
         du = solve_step(*step, model, settings, info, solvers);
         t0 = Clock::now();

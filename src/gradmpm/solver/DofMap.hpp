@@ -63,6 +63,8 @@ class DofMap {
     node_of_eq_.resize(count.back());
     rank_rows_.resize(count.size());
     for (std::size_t r = 0; r < count.size(); ++r) rank_rows_[r] = count[r] * ncomp_;
+    own_first_ = count[ranks::rank()];
+    own_last_ = count[ranks::rank() + 1];
     for (int n = 0; n < num_nodes; ++n)
       if (eq_of_node_[n] == 0) {
         const int e = count[boxes.owner(n)]++;
@@ -71,9 +73,34 @@ class DofMap {
       }
   }
 
-  /// A distributed run's: rank r owns equations [rank_rows()[r], rank_rows()[r + 1])
-  /// (those of the active nodes of its cut); empty in a serial run.
+  /// A distributed run's: rank r owns global equations [rank_rows()[r], rank_rows()[r + 1])
+  /// (those of the active nodes of its box); empty in a serial run.
   const std::vector<int>& rank_rows() const { return rank_rows_; }
+
+  /// Numbered by the owners (a margin), a rank's equations are local: its own nodes
+  /// first (in global order), then the other nodes it knows, ascending in global
+  /// equation, so that its vectors hold its own and ghost rows only. dof(), node_of(),
+  /// num_dofs() are local; global_rows() maps them to the global equations (PETSc's rows,
+  /// RowHalo). Serially, and with every_node, local equations are global (global_rows() empty).
+  std::vector<int> global_rows() const {
+    std::vector<int> rows;
+    if (global_eq_.empty()) return rows;
+    rows.resize(global_eq_.size() * ncomp_);
+    for (std::size_t e = 0; e < global_eq_.size(); ++e)
+      for (int i = 0; i < ncomp_; ++i) rows[e * ncomp_ + i] = global_eq_[e] * ncomp_ + i;
+    return rows;
+  }
+  /// The global equation of (node, comp) (the same on every rank that knows the node).
+  int global_dof(int node, int comp) const {
+    const int e = eq_of_node_[node];
+    return (global_eq_.empty() ? e : global_eq_[e]) * ncomp_ + comp;
+  }
+  /// This rank's own nodes: local node equations [own_nodes_first(), own_nodes_last())
+  /// (serially every active node).
+  int own_nodes_first() const { return rank_rows_.empty() ? 0 : own_first_; }
+  int own_nodes_last() const { return rank_rows_.empty() ? num_active_nodes() : own_last_; }
+  /// Equations of the whole system, over every rank (serially num_dofs()).
+  int num_global_dofs() const { return rank_rows_.empty() ? num_dofs() : rank_rows_.back(); }
 
   int ncomp() const { return ncomp_; }
   int num_active_nodes() const { return static_cast<int>(node_of_eq_.size()); }
@@ -139,38 +166,57 @@ class DofMap {
         throw std::logic_error("DofMap: a rank asked for a node this rank does not own");
       if (a.reached) eq_of_node_[a.node] = 0;
     }
-    // This rank's nodes, numbered after the ranks before it.
+    // This rank's nodes, numbered after the ranks before it (global equations).
     int own = 0;
     boxes.for_each_node(me, [&](int n) { own += eq_of_node_[n] == 0; });
     const std::vector<int> counts = ranks::all_gather({own});
-    int offset = 0, total = 0;
+    int offset = 0;
     rank_rows_.assign(size + 1, 0);
     for (int r = 0; r < size; ++r) {
       if (r < me) offset += counts[r];
-      total += counts[r];
       rank_rows_[r + 1] = rank_rows_[r] + counts[r] * ncomp_;
     }
-    node_of_eq_.assign(total, -1);
     int e = offset;
     boxes.for_each_node(me, [&](int n) {
-      if (eq_of_node_[n] == 0) {
-        eq_of_node_[n] = e;
-        node_of_eq_[e++] = n;
-      }
+      if (eq_of_node_[n] == 0) eq_of_node_[n] = e++;
     });
-    // The answers: each asked node's equation, back in the order asked.
+    // The answers: each asked node's global equation (or -1), back in the order asked.
     std::vector<int> answers(asked.received.size());
     for (std::size_t k = 0; k < answers.size(); ++k) answers[k] = eq_of_node_[asked.received[k].node];
     const std::vector<int> eq = ranks::answer(asked, answers);
+    // Local equations: the own nodes (global offset + k -> k), then the others known, by
+    // increasing global equation.
+    std::vector<std::pair<int, int>> others;  // (global equation, node)
     for (std::size_t k = 0; k < eq.size(); ++k) {
       eq_of_node_[asked.sent[k].node] = eq[k];
-      if (eq[k] >= 0) node_of_eq_[eq[k]] = asked.sent[k].node;
+      if (eq[k] >= 0) others.emplace_back(eq[k], asked.sent[k].node);
+    }
+    std::sort(others.begin(), others.end());
+    own_first_ = 0;
+    own_last_ = own;
+    node_of_eq_.assign(own + others.size(), -1);
+    global_eq_.assign(node_of_eq_.size(), -1);
+    boxes.for_each_node(me, [&](int n) {
+      if (eq_of_node_[n] >= 0) {
+        const int local = eq_of_node_[n] - offset;
+        eq_of_node_[n] = local;
+        node_of_eq_[local] = n;
+        global_eq_[local] = offset + local;
+      }
+    });
+    for (std::size_t k = 0; k < others.size(); ++k) {
+      const int local = own + static_cast<int>(k);
+      eq_of_node_[others[k].second] = local;
+      node_of_eq_[local] = others[k].second;
+      global_eq_[local] = others[k].first;
     }
   }
 
   int ncomp_ = 1;
   std::vector<int> eq_of_node_;
   std::vector<int> node_of_eq_;
+  std::vector<int> global_eq_;  ///< local node equation -> global (empty: the same)
+  int own_first_ = 0, own_last_ = 0;  ///< this rank's own nodes' local equations
   std::vector<int> rank_rows_;
 };
 

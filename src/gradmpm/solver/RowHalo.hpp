@@ -10,8 +10,10 @@
 //   fetch_ghosts:  each rank's ghost rows get their owners' values.
 // The neighbours are found once per load step (ranks::neighbours_of, no all-to-all).
 // Serially there are no ghost rows and every operation is the identity.
-// (Grid partition, step 2 in docs/parallel.md: the vectors are still as long as the
-// active grid; what a rank holds outside its own and ghost rows is not used.)
+// A rank's vectors are in its local numbering (DofMap: its own rows first, then the
+// others it knows, by increasing global row; grid partition step 2b, docs/parallel.md):
+// `globals` maps its rows to the global rows PETSc and the owners know. Without it the
+// local rows are the global ones (vectors as long as the whole system).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -39,34 +41,57 @@ class RowHalo {
   /// A serial run's: every row is this rank's.
   RowHalo() = default;
 
-  /// `rank_rows`: rank r owns rows [rank_rows[r], rank_rows[r + 1]) (DofMap::rank_rows;
-  /// empty: serial). `touched`: the rows this rank's points read or add to, ascending
-  /// (own rows among them are ignored). A collective call.
-  RowHalo(std::vector<int> rank_rows, const std::vector<int>& touched) : rank_rows_(std::move(rank_rows)) {
+  /// `rank_rows`: rank r owns global rows [rank_rows[r], rank_rows[r + 1]) (DofMap::rank_rows;
+  /// empty: serial). `touched`: the local rows this rank's points read or add to, ascending
+  /// (own rows among them are ignored). `globals`: the global row of each local row
+  /// (DofMap::global_rows; this rank's own rows a run of local rows, the others ascending
+  /// in global row); empty: local rows are global. A collective call.
+  RowHalo(std::vector<int> rank_rows, const std::vector<int>& touched, std::vector<int> globals = {})
+      : rank_rows_(std::move(rank_rows)), globals_(std::move(globals)) {
     if (rank_rows_.empty()) return;
     if (static_cast<int>(rank_rows_.size()) != ranks::size() + 1)
       throw std::logic_error("RowHalo: rows by rank need one more entry than there are ranks");
     const int me = ranks::rank();
-    std::vector<long long> count(ranks::size(), 0);
-    for (const int row : touched) {
-      if (row >= first() && row < last()) continue;
-      ghosts_.push_back(row);  // ascending rows: grouped by owner in rank order
-      ++count[owner(row)];
+    const int global_first = rank_rows_[me], own = rank_rows_[me + 1] - global_first;
+    first_ = global_first;
+    if (!globals_.empty()) {  // the own rows' run of local rows
+      const auto at = std::find(globals_.begin(), globals_.end(), global_first);
+      first_ = own > 0 ? static_cast<int>(at - globals_.begin()) : 0;
+      for (int k = 0; k < own; ++k)
+        if (first_ + k >= static_cast<int>(globals_.size()) || globals_[first_ + k] != global_first + k)
+          throw std::logic_error("RowHalo: this rank's own rows are not a run of its local rows");
     }
-    count[me] = 0;
-    to_owners_ = ranks::neighbours_of(count);
-    const std::vector<char> asked = ranks::exchange(to_owners_, reinterpret_cast<const char*>(ghosts_.data()), sizeof(int));
-    requested_.resize(asked.size() / sizeof(int));
-    if (!asked.empty()) std::memcpy(requested_.data(), asked.data(), asked.size());
-    for (const int row : requested_)
-      if (row < first() || row >= last()) throw std::logic_error("RowHalo: a rank asked for a row this rank does not own");
+    last_ = first_ + own;
+    std::vector<std::vector<int>> to(ranks::size());
+    for (const int row : touched) {
+      if (row >= first_ && row < last_) continue;
+      const int g = global_row(row);
+      if (!ghosts_.empty() && g <= global_row(ghosts_.back()))
+        throw std::logic_error("RowHalo: ghost rows must ascend in global row");
+      ghosts_.push_back(row);  // ascending global rows: grouped by owner in rank order
+      to[owner(g)].push_back(g);
+    }
+    if (!to[me].empty()) throw std::logic_error("RowHalo: a ghost row in this rank's own range");
+    const ranks::Sent<int> asked = ranks::send_to(to);
+    to_owners_ = asked.with;
+    requested_ = asked.received;
+    for (int& row : requested_) {
+      if (row < global_first || row >= global_first + own)
+        throw std::logic_error("RowHalo: a rank asked for a row this rank does not own");
+      row = first_ + (row - global_first);  // its local row
+    }
     to_ghosts_ = to_owners_.reversed();
   }
 
   bool distributed() const { return !rank_rows_.empty(); }
-  /// This rank's rows: [first(), last()) (every row serially: last() is not known then).
-  int first() const { return distributed() ? rank_rows_[ranks::rank()] : 0; }
-  int last() const { return distributed() ? rank_rows_[ranks::rank() + 1] : -1; }
+  /// This rank's rows: local rows [first(), last()) (every row serially: last() is not
+  /// known then), global rows [rank_rows()[rank], rank_rows()[rank + 1]).
+  int first() const { return distributed() ? first_ : 0; }
+  int last() const { return distributed() ? last_ : -1; }
+  /// The global row of local row `row`.
+  int global_row(int row) const { return globals_.empty() ? row : globals_[row]; }
+  /// Whether local rows are global ones (a serial run, or vectors as long as the system).
+  bool local_is_global() const { return globals_.empty(); }
   const std::vector<int>& rank_rows() const { return rank_rows_; }
   /// Rows this rank holds for its points but does not own, and rows of its own that
   /// other ranks hold (the values sent each way per exchange).
@@ -135,8 +160,10 @@ class RowHalo {
   }
 
   std::vector<int> rank_rows_;
-  std::vector<int> ghosts_;     ///< rows this rank holds but others own, ascending
-  std::vector<int> requested_;  ///< own rows other ranks hold, grouped by that rank in rank order
+  std::vector<int> globals_;    ///< local row -> global row (empty: the same)
+  int first_ = 0, last_ = 0;    ///< this rank's own local rows
+  std::vector<int> ghosts_;     ///< local rows this rank holds but others own, ascending in global row
+  std::vector<int> requested_;  ///< own local rows other ranks hold, grouped by that rank in rank order
   ranks::Neighbours to_owners_, to_ghosts_;
 };
 

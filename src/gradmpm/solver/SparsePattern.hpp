@@ -119,8 +119,8 @@ SparseMatrix build_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
 template <int dim>
 SparseMatrix build_rank_pattern(const PointStencils<dim>& st, const DofMap& dofs) {
   if (!ranks::distributed()) return build_pattern(st, dofs);
-  const int n_points = static_cast<int>(st.size()), nc = dofs.ncomp();
-  const int first = dofs.rank_rows().at(ranks::rank()) / nc, last = dofs.rank_rows().at(ranks::rank() + 1) / nc;
+  const int n_points = static_cast<int>(st.size());
+  const int first = dofs.own_nodes_first(), last = dofs.own_nodes_last();
   return build_pattern_of_groups(
       n_points + (last - first), [&](int g) { return g < n_points ? st[g].count : 1; },
       [&](int g, int a) { return g < n_points ? st[g].node[a] : dofs.node_of(first + g - n_points); }, dofs);

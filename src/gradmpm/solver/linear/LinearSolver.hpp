@@ -33,12 +33,14 @@ struct SystemDescription {
   /// its share (its points' contributions, with its points' pattern only) and the solver
   /// adds the shares up. Only a solver that adds_shares() may be told so.
   bool shares = false;
-  /// With shares, a distributed run's rows (RowHalo): rank r owns rows
+  /// With shares, a distributed run's rows (RowHalo): rank r owns global rows
   /// [halo->rank_rows()[r], halo->rank_rows()[r + 1]) (DofMap::rank_rows: the nodes of
-  /// its cells, so that its share falls in its own rows but for its ghost rows), and the
+  /// its box, so that its share falls in its own rows but for its ghost rows), and the
   /// caller reads the solution in its own and ghost rows only, so the solver fetches the
   /// ghost rows from their owners instead of gathering the whole solution on every rank.
-  /// Null: rows split evenly by nodes, the whole solution on every rank.
+  /// The matrix and vectors passed are in the halo's local rows (halo->global_row():
+  /// a load step's hold its own and ghost rows only). Null: rows split evenly by nodes,
+  /// the whole system and solution on every rank.
   const RowHalo* halo = nullptr;
 };
 

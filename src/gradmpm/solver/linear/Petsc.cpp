@@ -84,29 +84,32 @@ class Petsc final : public LinearSolver {
  protected:
   void do_analyze(const SparseMatrix& A) override {
     destroy();
-    const PetscInt n = static_cast<PetscInt>(A.rows());
-    const int bs = description_.block_size > 1 && n % description_.block_size == 0 ? description_.block_size : 1;
-    split_rows(n, bs);
-    const PetscInt m = last_ - first_;  // the rows this rank owns: [first_, last_)
+    const PetscInt local_rows = static_cast<PetscInt>(A.rows());
+    const int bs =
+        description_.block_size > 1 && local_rows % description_.block_size == 0 ? description_.block_size : 1;
+    split_rows(local_rows, bs);
+    const PetscInt n = n_, m = last_ - first_;  // the rows this rank owns: global [first_, last_), local [lo_, lo_ + m)
     // Compressed rows (this rank's) from Eigen's compressed columns; `position_[k]`: where
     // the k-th stored value of A goes (-1: a row of another rank; with shares, -1 - its
     // place among the other ranks' rows), so that a refactorisation only copies values.
     std::vector<PetscInt> row_start(m + 1, 0);
     for (int c = 0; c < A.outerSize(); ++c)
       for (SparseMatrix::InnerIterator it(A, c); it; ++it)
-        if (it.row() >= first_ && it.row() < last_) ++row_start[it.row() - first_ + 1];
+        if (own(it.row())) ++row_start[it.row() - lo_ + 1];
     for (PetscInt r = 0; r < m; ++r) row_start[r + 1] += row_start[r];
     std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1), columns(row_start[m]);
     position_.assign(A.nonZeros(), -1);
     Eigen::Index k = 0;
     for (int c = 0; c < A.outerSize(); ++c)
       for (SparseMatrix::InnerIterator it(A, c); it; ++it, ++k)
-        if (it.row() >= first_ && it.row() < last_) {
-          position_[k] = next[it.row() - first_]++;
-          columns[position_[k]] = c;
+        if (own(it.row())) {
+          position_[k] = next[it.row() - lo_]++;
+          columns[position_[k]] = global(c);
         }
+    if (const RowHalo* halo = rows_halo(); halo && !halo->local_is_global())
+      sort_columns(row_start, columns);  // (a local numbering's ghost columns may precede its own)
     if (description_.shares) {
-      share_other_rows(A, n);
+      share_other_rows(A);
       // Each rank's share holds only its points' couplings: this rank's rows get the
       // columns the other ranks' shares reach in them too (their pattern, exchanged once
       // per analysis), so that the matrix is preallocated for the sum of the shares.
@@ -178,7 +181,7 @@ class Petsc final : public LinearSolver {
     const PetscScalar* xv = solve_own_rows(b);
     if (const RowHalo* halo = rows_halo()) {  // this rank's rows, then its ghost rows from their owners
       Vector x = Vector::Zero(b.size());
-      std::copy(xv, xv + (last_ - first_), x.data() + first_);
+      std::copy(xv, xv + (last_ - first_), x.data() + lo_);
       check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
       halo->fetch_ghosts(x);
       return x;
@@ -197,7 +200,7 @@ class Petsc final : public LinearSolver {
     Eigen::MatrixXd X = Eigen::MatrixXd::Zero(B.rows(), B.cols());
     for (Eigen::Index j = 0; j < B.cols(); ++j) {
       const PetscScalar* xv = solve_own_rows(B.col(j));
-      std::copy(xv, xv + (last_ - first_), X.col(j).data() + first_);
+      std::copy(xv, xv + (last_ - first_), X.col(j).data() + lo_);
       check(VecRestoreArrayRead(x_, &xv), "VecRestoreArrayRead");
     }
     halo->fetch_ghosts(X);
@@ -205,7 +208,7 @@ class Petsc final : public LinearSolver {
   }
 
  private:
-  /// Solves for b's own rows (b: this rank's rows [first_, last_) are read); returns x_'s
+  /// Solves for b's own rows (b: this rank's local rows [lo_, lo_ + m) are read); returns x_'s
   /// array of this rank's rows, to be restored by the caller (VecRestoreArrayRead). A
   /// Krylov method that did not converge throws SolverError with the iterations and the
   /// residual, relative to the whole right-hand side's norm (over every rank's rows).
@@ -213,7 +216,7 @@ class Petsc final : public LinearSolver {
     if (!user_rtol_) check(KSPSetTolerances(ksp_, rtol_, 1e-300, PETSC_DEFAULT, max_iterations_), "KSPSetTolerances");
     PetscScalar* v = nullptr;
     check(VecGetArray(b_, &v), "VecGetArray");
-    std::copy(b.data() + first_, b.data() + last_, v);
+    std::copy(b.data() + lo_, b.data() + lo_ + (last_ - first_), v);
     check(VecRestoreArray(b_, &v), "VecRestoreArray");
     check(KSPSolve(ksp_, b_, x_), "KSPSolve");
     PetscInt its = 0;
@@ -254,18 +257,20 @@ class Petsc final : public LinearSolver {
 
   /// With shares: the entries of A in other ranks' rows, as compressed rows, and their
   /// places in position_ (-1 - k for the k-th).
-  void share_other_rows(const SparseMatrix& A, PetscInt n) {
-    std::vector<PetscInt> count(n, 0);
+  /// (Rows ascending in local numbering ascend in global row outside the own ones.)
+  void share_other_rows(const SparseMatrix& A) {
+    const PetscInt local_rows = static_cast<PetscInt>(A.rows());
+    std::vector<PetscInt> count(local_rows, 0);
     for (int c = 0; c < A.outerSize(); ++c)
       for (SparseMatrix::InnerIterator it(A, c); it; ++it)
-        if (it.row() < first_ || it.row() >= last_) ++count[it.row()];
-    std::vector<PetscInt> slot(n, -1);  // row -> its place in other_rows_
+        if (!own(it.row())) ++count[it.row()];
+    std::vector<PetscInt> slot(local_rows, -1);  // local row -> its place in other_rows_
     other_rows_.clear();
     other_start_.assign(1, 0);
-    for (PetscInt row = 0; row < n; ++row)
+    for (PetscInt row = 0; row < local_rows; ++row)
       if (count[row] > 0) {
         slot[row] = static_cast<PetscInt>(other_rows_.size());
-        other_rows_.push_back(row);
+        other_rows_.push_back(global(static_cast<int>(row)));
         other_start_.push_back(other_start_.back() + count[row]);
       }
     std::vector<PetscInt> next(other_start_.begin(), other_start_.end() - 1);
@@ -274,9 +279,9 @@ class Petsc final : public LinearSolver {
     Eigen::Index k = 0;
     for (int c = 0; c < A.outerSize(); ++c)
       for (SparseMatrix::InnerIterator it(A, c); it; ++it, ++k)
-        if (it.row() < first_ || it.row() >= last_) {
+        if (!own(it.row())) {
           const PetscInt at = next[slot[it.row()]]++;
-          other_columns_[at] = c;
+          other_columns_[at] = global(c);
           position_[k] = -1 - at;
         }
   }
@@ -348,7 +353,7 @@ class Petsc final : public LinearSolver {
     const Eigen::MatrixXd xyz = description_.node_coordinates();
     PetscInt n = 0;
     check(MatGetSize(matrix_, &n, nullptr), "MatGetSize");
-    if (xyz.rows() * bs != n || xyz.cols() != bs) return;  // not one row per node: no modes
+    if (xyz.rows() * bs != local_rows_ || xyz.cols() != bs) return;  // not one row per node: no modes
     ::Vec coords;
     check(VecCreate(comm(), &coords), "VecCreate");
     check(VecSetSizes(coords, last_ - first_, n), "VecSetSizes");
@@ -356,8 +361,8 @@ class Petsc final : public LinearSolver {
     check(VecSetType(coords, VECSTANDARD), "VecSetType");
     PetscScalar* c = nullptr;
     check(VecGetArray(coords, &c), "VecGetArray");
-    for (Eigen::Index node = first_ / bs; node < last_ / bs; ++node)
-      for (int d = 0; d < bs; ++d) c[(node - first_ / bs) * bs + d] = xyz(node, d);
+    for (Eigen::Index node = 0; node < (last_ - first_) / bs; ++node)  // this rank's nodes, local rows from lo_
+      for (int d = 0; d < bs; ++d) c[node * bs + d] = xyz(lo_ / bs + node, d);
     check(VecRestoreArray(coords, &c), "VecRestoreArray");
     MatNullSpace modes;
     check(MatNullSpaceCreateRigidBody(coords, &modes), "MatNullSpaceCreateRigidBody");
@@ -418,24 +423,60 @@ class Petsc final : public LinearSolver {
     const RowHalo* halo = description_.halo;
     return distributed_ && description_.shares && halo && halo->distributed() ? halo : nullptr;
   }
-  void split_rows(PetscInt n, int bs) {
+  /// `local_rows`: the rows of the matrices and vectors this rank passes (with a halo of
+  /// a local numbering, its own and ghost rows; otherwise the whole system's).
+  void split_rows(PetscInt local_rows, int bs) {
     const int size = distributed_ ? ranks::size() : 1, rank = distributed_ ? ranks::rank() : 0;
-    const PetscInt nodes = n / bs;
+    local_rows_ = local_rows;
+    n_ = local_rows;
     row_counts_.assign(size, 0);
-    if (const RowHalo* halo = rows_halo()) {
+    const RowHalo* halo = rows_halo();
+    if (halo) {
       const auto& given = halo->rank_rows();
-      const bool fits = static_cast<int>(given.size()) == size + 1 && given.front() == 0 && given.back() == n &&
+      n_ = given.back();
+      const bool fits = static_cast<int>(given.size()) == size + 1 && given.front() == 0 &&
+                        (!halo->local_is_global() || given.back() == local_rows) &&
                         std::is_sorted(given.begin(), given.end()) &&
                         std::all_of(given.begin(), given.end(), [&](int row) { return row % bs == 0; });
       if (!fits)
-        throw std::logic_error(fmt::format("PETSc: rows by rank that do not cover the {} rows in blocks of {}", n, bs));
+        throw std::logic_error(
+            fmt::format("PETSc: rows by rank that do not cover the {} rows in blocks of {}", given.back(), bs));
       for (int r = 0; r < size; ++r) row_counts_[r] = given[r + 1] - given[r];
     } else {
+      const PetscInt nodes = n_ / bs;
       for (int r = 0; r < size; ++r) row_counts_[r] = static_cast<int>((nodes / size + (r < nodes % size)) * bs);
     }
     first_ = 0;
     for (int r = 0; r < rank; ++r) first_ += row_counts_[r];
     last_ = first_ + row_counts_[rank];
+    lo_ = halo ? halo->first() : first_;
+    if (halo && (halo->last() - halo->first() != last_ - first_ || lo_ % bs != 0 || halo->last() > local_rows))
+      throw std::logic_error("PETSc: the halo's own rows do not match the rows by rank");
+  }
+
+  /// Whether local row `row` is one of this rank's own; the global row or column of a local one.
+  bool own(PetscInt row) const { return row >= lo_ && row < lo_ + (last_ - first_); }
+  PetscInt global(int local) const {
+    const RowHalo* halo = rows_halo();
+    return halo ? halo->global_row(local) : local;
+  }
+
+  /// Sorts each compressed row's columns (PETSc's CSR wants them ascending), moving
+  /// position_ with them.
+  void sort_columns(const std::vector<PetscInt>& row_start, std::vector<PetscInt>& columns) {
+    std::vector<PetscInt> order, moved_to(columns.size()), sorted(columns.size());
+    for (std::size_t r = 0; r + 1 < row_start.size(); ++r) {
+      order.resize(row_start[r + 1] - row_start[r]);
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = row_start[r] + static_cast<PetscInt>(i);
+      std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) { return columns[a] < columns[b]; });
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        moved_to[order[i]] = row_start[r] + static_cast<PetscInt>(i);
+        sorted[row_start[r] + static_cast<PetscInt>(i)] = columns[order[i]];
+      }
+    }
+    columns = std::move(sorted);
+    for (auto& p : position_)
+      if (p >= 0) p = moved_to[p];
   }
 
   void destroy() {
@@ -454,7 +495,9 @@ class Petsc final : public LinearSolver {
   std::vector<OptionName> names_;
   SystemDescription description_;
   bool distributed_ = ranks::distributed();
-  PetscInt first_ = 0, last_ = 0;              ///< this rank's rows
+  PetscInt first_ = 0, last_ = 0;              ///< this rank's rows (global)
+  PetscInt lo_ = 0;                            ///< this rank's first row in the vectors it passes (local)
+  PetscInt n_ = 0, local_rows_ = 0;            ///< rows of the whole system; of the matrices passed
   std::vector<int> row_counts_;                ///< every rank's number of rows
   std::vector<PetscInt> position_;             ///< value k of A -> local_values_ (-1: not this rank's row)
   std::vector<PetscInt> row_start_, columns_;  ///< this rank's rows (distributed runs)
