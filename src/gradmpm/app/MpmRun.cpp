@@ -219,18 +219,27 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
       // count. A distributed run's ranks sum the nodes they own (the fields are right
       // there), then the sums are added over the ranks: nothing is gathered whole.
       const Vector R = info.grid_reaction(), du = info.grid_displacement();
-      const std::vector<bool> solved = info.grid_active();
       const bool split = !m.rank_boxes.empty();
+      // A distributed run's fields are at the nodes listed (the active ones it knows).
+      const std::vector<int> listed = split ? info.grid_nodes() : std::vector<int>{};
+      const std::vector<bool> solved = split ? std::vector<bool>{} : info.grid_active();
       constexpr int per_set = 2 * dim + 1;  // r, sum of du, active nodes
       std::vector<double> sums(m.node_sets.size() * per_set, 0.0);
       for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
         double* s = &sums[b * per_set];
         for (int n : m.node_sets[b].nodes) {
-          if (!solved[n] || (split && m.rank_boxes.owner(n) != ranks::rank())) continue;
+          int at = n;  // where n's values are
+          if (split) {
+            const auto it = std::lower_bound(listed.begin(), listed.end(), n);
+            if (m.rank_boxes.owner(n) != ranks::rank() || it == listed.end() || *it != n) continue;
+            at = static_cast<int>(it - listed.begin());
+          } else if (!solved[n]) {
+            continue;
+          }
           s[2 * dim] += 1.0;  // the mean displacement is over the nodes the step solved for
           for (int d = 0; d < dim; ++d) {
-            s[d] += R[n * dim + d];
-            s[dim + d] += du[n * dim + d];
+            s[d] += R[at * dim + d];
+            s[dim + d] += du[at * dim + d];
           }
         }
       }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "gradmpm/core/Ranks.hpp"
@@ -207,16 +208,37 @@ std::vector<std::string> vtu_point_columns(const PointColumns<dim>& table) {
   return table.with_state(names);
 }
 
+namespace {
+/// A distributed run's grid piece: the cells of this rank's box.
+template <int dim>
+std::vector<int> piece_cells(const Model<dim>& m) {
+  std::vector<int> keys;
+  m.rank_boxes.for_each_cell(ranks::rank(), [&](int key) { keys.push_back(key); });
+  return keys;
+}
+}  // namespace
+
 template <int dim>
 std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info) {
-  const int nn = m.grid.num_nodes();
-  VtkField du{"displacement_increment", 3, std::vector<double>(3 * static_cast<std::size_t>(nn), 0.0)},
-      mass{"mass", 1, std::vector<double>(nn, 0.0)};
+  // Serially at every grid node; a distributed run's at its piece's points only (the
+  // corners of its cells), so that no rank holds an output array as long as the grid.
+  const bool split = !m.rank_boxes.empty();
+  std::vector<int> at;  // the piece's points (split)
+  if (split) at = cell_corners(m.grid, piece_cells(m));
+  const std::size_t nn = split ? at.size() : static_cast<std::size_t>(m.grid.num_nodes());
+  VtkField du{"displacement_increment", 3, std::vector<double>(3 * nn, 0.0)}, mass{"mass", 1, std::vector<double>(nn, 0.0)};
   if (info) {
     const Vector u = info->grid_displacement(), nodal_mass = info->grid_mass();
-    for (int n = 0; n < nn; ++n) {
-      for (int d = 0; d < dim; ++d) du.values[3 * n + d] = u[n * dim + d];
-      mass.values[n] = nodal_mass[n];
+    const std::vector<int> listed = split ? info->grid_nodes() : std::vector<int>{};
+    for (std::size_t k = 0; k < nn; ++k) {
+      Eigen::Index n = static_cast<Eigen::Index>(k);  // where the k-th point's values are
+      if (split) {
+        const auto it = std::lower_bound(listed.begin(), listed.end(), at[k]);
+        if (it == listed.end() || *it != at[k]) continue;  // an inactive corner: zero
+        n = it - listed.begin();
+      }
+      for (int d = 0; d < dim; ++d) du.values[3 * k + d] = u[n * dim + d];
+      mass.values[k] = nodal_mass[n];
     }
   }
   return {du, mass};
@@ -225,8 +247,7 @@ std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info)
 template <int dim>
 std::string grid_vtu(const Model<dim>& m, const std::vector<VtkField>& fields) {
   if (m.rank_boxes.empty()) return vtu_grid<dim>(m.grid, fields);
-  std::vector<int> keys;
-  m.rank_boxes.for_each_cell(ranks::rank(), [&](int key) { keys.push_back(key); });
+  const std::vector<int> keys = piece_cells(m);
   return vtu_grid<dim>(m.grid, fields, &keys);
 }
 

@@ -65,8 +65,8 @@ template <int dim>
 std::vector<std::string> vtu_point_columns(const PointColumns<dim>& table);
 
 /// grid_NNNN.vtu: the step's displacement increment and nodal mass (zero without a step)
-/// at every grid node (a distributed run's: right at the corners of the rank's cells; a
-/// collective call then, as StepInfo's grid fields are).
+/// at every grid node (a distributed run's: at the corners of the rank's cells only, its
+/// piece's points, in vtu_grid's order; a collective call then, as StepInfo's grid fields are).
 template <int dim>
 std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info);
 

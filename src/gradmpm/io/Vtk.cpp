@@ -67,6 +67,23 @@ std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkFiel
 }
 
 template <int dim>
+std::vector<int> cell_corners(const Grid<dim>& grid, const std::vector<int>& keys) {
+  std::vector<int> nodes;
+  nodes.reserve(keys.size() << dim);
+  for (const int key : keys) {
+    const typename Grid<dim>::Index c = grid.node_ijk(key);
+    for (int k = 0; k < (1 << dim); ++k) {
+      typename Grid<dim>::Index ijk;
+      for (int d = 0; d < dim; ++d) ijk[d] = c[d] + ((k >> d) & 1);
+      nodes.push_back(grid.node_index(ijk));
+    }
+  }
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
+template <int dim>
 std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields, const std::vector<int>* keys) {
   std::vector<int> every;
   if (!keys) {
@@ -78,6 +95,8 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
   // quad (00,10,11,01); hexahedron bottom then top.
   static constexpr int order[3][8] = {{0, 1}, {0, 1, 3, 2}, {0, 1, 3, 2, 4, 5, 7, 6}};
   constexpr int corners = 1 << dim;
+  // The piece's points: the corners, ascending (the whole grid: every node, in order).
+  const std::vector<int> nodes = cell_corners(grid, *keys);
   std::vector<long> conn;
   for (const int key : *keys) {
     const typename Grid<dim>::Index c = grid.node_ijk(key);
@@ -85,14 +104,9 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
       const int bits = order[dim - 1][k];
       typename Grid<dim>::Index ijk;
       for (int d = 0; d < dim; ++d) ijk[d] = c[d] + ((bits >> d) & 1);
-      conn.push_back(grid.node_index(ijk));
+      conn.push_back(std::lower_bound(nodes.begin(), nodes.end(), grid.node_index(ijk)) - nodes.begin());
     }
   }
-  // The piece's points: the corners, ascending (the whole grid: every node, in order).
-  std::vector<long> nodes(conn);
-  std::sort(nodes.begin(), nodes.end());
-  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  for (long& n : conn) n = std::lower_bound(nodes.begin(), nodes.end(), n) - nodes.begin();
   std::vector<double> xyz;
   for (const long n : nodes) {
     const Vec<dim> x = grid.node_position(static_cast<int>(n));
@@ -100,8 +114,12 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
   }
   std::vector<VtkField> at_nodes;
   for (const auto& f : fields) {
+    if (f.values.size() == nodes.size() * f.components) {  // at the piece's points already
+      at_nodes.push_back(f);
+      continue;
+    }
     if (f.values.size() != static_cast<std::size_t>(grid.num_nodes()) * f.components)
-      throw std::logic_error("VTK grid field " + f.name + " needs values at every grid node");
+      throw std::logic_error("VTK grid field " + f.name + " needs values at every grid node or at the piece's points");
     VtkField g{f.name, f.components, {}, f.integer};
     g.values.reserve(nodes.size() * f.components);
     for (const long n : nodes)
@@ -117,6 +135,9 @@ std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
   return s;
 }
 
+template std::vector<int> cell_corners<1>(const Grid<1>&, const std::vector<int>&);
+template std::vector<int> cell_corners<2>(const Grid<2>&, const std::vector<int>&);
+template std::vector<int> cell_corners<3>(const Grid<3>&, const std::vector<int>&);
 template std::string vtu_grid<1>(const Grid<1>&, const std::vector<VtkField>&, const std::vector<int>*);
 template std::string vtu_grid<2>(const Grid<2>&, const std::vector<VtkField>&, const std::vector<int>*);
 template std::string vtu_grid<3>(const Grid<3>&, const std::vector<VtkField>&, const std::vector<int>*);

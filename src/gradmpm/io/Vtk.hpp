@@ -20,10 +20,16 @@ struct VtkField {
 /// Points as VTK_VERTEX cells; `xyz` has 3 coordinates per point.
 std::string vtu_points(const std::vector<double>& xyz, const std::vector<VtkField>& fields);
 
+/// The corners of the cells whose lower-corner nodes (keys) are `keys`, ascending: a
+/// grid piece's points.
+template <int dim>
+std::vector<int> cell_corners(const Grid<dim>& grid, const std::vector<int>& keys);
+
 /// The background grid's cells whose lower-corner nodes (keys) are `keys`, ascending (a
 /// distributed run's piece: its box of Model::rank_boxes; null: every cell) with their
-/// corners, ascending, as the piece's points. `fields` are nodal (PointData), given at
-/// every grid node; the piece takes its corners' values.
+/// corners, ascending (cell_corners), as the piece's points. `fields` are nodal
+/// (PointData), given at every grid node (the piece takes its corners' values) or at the
+/// piece's points only, in their order.
 template <int dim>
 std::string vtu_grid(const Grid<dim>& grid, const std::vector<VtkField>& fields,
                      const std::vector<int>* keys = nullptr);

@@ -297,30 +297,46 @@ class LoadStep {
     if (split_ && contact_) contact_->sum_forces_over_ranks();
   }
 
-  /// The step's grid fields for the outputs, at every grid node.
+  /// The step's grid fields for the outputs, at every grid node or (a distributed run's)
+  /// at the nodes listed.
   struct GridFields {
     Vector displacement;  ///< the increment du, dim per node (zero on inactive nodes)
     Vector reaction;      ///< f_int - f_ext at the converged iterate, dim per node
     Vector mass;          ///< sum_p N_i m_p (eq. 1), one per node
+    /// The grid nodes the values are at, ascending (value k at nodes[k]); empty: every
+    /// grid node, in order.
+    std::vector<int> nodes;
   };
   /// `du`: the converged increment (a distributed run's right in own and ghost rows).
-  /// Serially right at every node. A distributed run's are right at the nodes this rank
-  /// owns (Model::rank_boxes) and at the corners of its cells (its piece of the grid's
-  /// VTU), and not used elsewhere: the masses are summed in own and ghost rows, then the
-  /// corners' rows that other ranks own are fetched from them (a neighbour exchange, no
-  /// whole-grid gather; a corner of an empty cell may be in no point's stencil of this
-  /// rank). A collective call in a distributed run.
+  /// Serially at every node. A distributed run's are at the active nodes this rank knows
+  /// only (its local equations: no array as long as the grid), right at the nodes it owns
+  /// (Model::rank_boxes) and at the corners of its cells (its piece of the grid's VTU;
+  /// an inactive corner is not listed), and not used elsewhere: the masses are summed in
+  /// own and ghost rows, then the corners' rows that other ranks own are fetched from them
+  /// (a neighbour exchange, no whole-grid gather; a corner of an empty cell may be in no
+  /// point's stencil of this rank). A collective call in a distributed run.
   GridFields grid_fields(const Vector& du) const {
     const int nn = model_.grid.num_nodes();
-    if (!split_) return {dofs_.to_grid_all(du), dofs_.to_grid_all(reaction_), nodal_mass(st_, model_.points, nn)};
+    if (!split_) return {dofs_.to_grid_all(du), dofs_.to_grid_all(reaction_), nodal_mass(st_, model_.points, nn), {}};
     Vector mass = mass_;  // (the points may have moved to other ranks since: their masses as the step began)
     halo_.sum(mass);
     Vector displacement = du, reaction = reaction_;
     const RowHalo piece(dofs_.rank_rows(), piece_rows(), dofs_.global_rows());
     for (Vector* v : {&displacement, &reaction, &mass}) piece.fetch_ghosts(*v);
-    GridFields out{dofs_.to_grid_all(displacement), dofs_.to_grid_all(reaction), Vector::Zero(nn)};
-    for (int n = 0; n < nn; ++n)
-      if (dofs_.active(n)) out.mass[n] = mass[dofs_.dof(n, 0)];
+    std::vector<std::pair<int, int>> by_node(dofs_.num_active_nodes());  // (node, local equation)
+    for (int e = 0; e < dofs_.num_active_nodes(); ++e) by_node[e] = {dofs_.node_of(e), e};
+    std::sort(by_node.begin(), by_node.end());
+    const Eigen::Index k = static_cast<Eigen::Index>(by_node.size());
+    GridFields out{Vector(k * dim), Vector(k * dim), Vector(k), std::vector<int>(k)};
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const auto [n, e] = by_node[j];
+      out.nodes[j] = n;
+      for (int i = 0; i < dim; ++i) {
+        out.displacement[j * dim + i] = displacement[dofs_.dof(n, i)];
+        out.reaction[j * dim + i] = reaction[dofs_.dof(n, i)];
+      }
+      out.mass[j] = mass[dofs_.dof(n, 0)];
+    }
     return out;
   }
   /// The force of each rigid box on the body at the converged iterate (dim per box).

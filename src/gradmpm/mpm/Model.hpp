@@ -211,9 +211,12 @@ struct StepInfo {
   DriverState after;   ///< the driver's state after this step (what a checkpoint of it records)
   /// Grid fields of the step, computed only when called (outputs ask for them on the
   /// steps they write); valid during the post-step stages and the observer call only.
-  /// A distributed run's are right only at the nodes the rank owns (Model::rank_boxes)
-  /// and at the corners of its cells, and the first call of the three is collective
-  /// (every rank must make it: the corners other ranks own are fetched from them).
+  /// A distributed run's are at the nodes grid_nodes() lists only (the active nodes the
+  /// rank knows, value k at the k-th), right at the nodes the rank owns
+  /// (Model::rank_boxes) and at the corners of its cells, and the first call of the four
+  /// is collective (every rank must make it: the corners other ranks own are fetched
+  /// from them). Serially grid_nodes() is empty: the values are at every grid node.
+  std::function<std::vector<int>()> grid_nodes;
   std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
   std::function<Vector()> grid_mass;          ///< nodal mass sum_p N_i m_p (eq. 1)
   std::function<std::vector<bool>()> grid_active;  ///< the nodes the step solved for (in some point's stencil)

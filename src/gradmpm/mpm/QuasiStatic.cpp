@@ -375,6 +375,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       if (!grid) grid = step->grid_fields(du);
       return *grid;
     };
+    info.grid_nodes = [&] { return fields().nodes; };
     info.grid_displacement = [&] { return fields().displacement; };
     info.grid_reaction = [&] { return fields().reaction; };
     info.grid_mass = [&] { return fields().mass; };
