@@ -466,6 +466,13 @@ class Petsc final : public LinearSolver {
   void sort_columns(const std::vector<PetscInt>& row_start, std::vector<PetscInt>& columns) {
     std::vector<PetscInt> order, moved_to(columns.size()), sorted(columns.size());
     for (std::size_t r = 0; r + 1 < row_start.size(); ++r) {
+      if (std::is_sorted(columns.begin() + row_start[r], columns.begin() + row_start[r + 1])) {  // most rows
+        for (PetscInt i = row_start[r]; i < row_start[r + 1]; ++i) {
+          moved_to[i] = i;
+          sorted[i] = columns[i];
+        }
+        continue;
+      }
       order.resize(row_start[r + 1] - row_start[r]);
       for (std::size_t i = 0; i < order.size(); ++i) order[i] = row_start[r] + static_cast<PetscInt>(i);
       std::sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) { return columns[a] < columns[b]; });
