@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "gradmpm/core/PagedInts.hpp"
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Types.hpp"
 #include "gradmpm/grid/RankBoxes.hpp"
@@ -37,13 +38,13 @@ class DofMap {
   DofMap(const PointStencils<dim>& st, int num_nodes, int ncomp, const RankBoxes& boxes = {}, int margin = every_node)
       : ncomp_(ncomp), eq_of_node_(num_nodes, -1) {
     for (const auto& s : st)
-      for (int a = 0; a < s.count; ++a) eq_of_node_[s.node[a]] = 0;
+      for (int a = 0; a < s.count; ++a) eq_of_node_.set(s.node[a], 0);
     if (boxes.empty()) {
       if (ranks::distributed())  // each rank would number only its own points' nodes
         throw std::logic_error("DofMap: a distributed run's numbering needs the partition of the grid (Model::rank_boxes)");
       for (int n = 0; n < num_nodes; ++n)
         if (eq_of_node_[n] == 0) {
-          eq_of_node_[n] = static_cast<int>(node_of_eq_.size());
+          eq_of_node_.set(n, static_cast<int>(node_of_eq_.size()));
           node_of_eq_.push_back(n);
         }
       return;
@@ -54,7 +55,8 @@ class DofMap {
       number_by_owners(boxes, margin);
       return;
     }
-    ranks::max(eq_of_node_.data(), eq_of_node_.size());
+    eq_of_node_.allocate_all();  // (the union over the ranks: every page on every rank)
+    for (int p = 0; p < eq_of_node_.num_pages(); ++p) ranks::max(eq_of_node_.page(p), PagedInts::page_size);
     // Each owner's active nodes, rank after rank.
     std::vector<int> count(ranks::size() + 1, 0);
     for (int n = 0; n < num_nodes; ++n)
@@ -68,7 +70,7 @@ class DofMap {
     for (int n = 0; n < num_nodes; ++n)
       if (eq_of_node_[n] == 0) {
         const int e = count[boxes.owner(n)]++;
-        eq_of_node_[n] = e;
+        eq_of_node_.set(n, e);
         node_of_eq_[e] = n;
       }
   }
@@ -106,6 +108,8 @@ class DofMap {
   int num_active_nodes() const { return static_cast<int>(node_of_eq_.size()); }
   int num_dofs() const { return num_active_nodes() * ncomp_; }
   int num_grid_nodes() const { return static_cast<int>(eq_of_node_.size()); }
+  /// Bytes the node-to-equation map holds (pages near the nodes this rank knows only).
+  std::size_t node_map_bytes() const { return eq_of_node_.bytes(); }
   bool active(int node) const { return eq_of_node_[node] >= 0; }
   int dof(int node, int comp) const { return eq_of_node_[node] * ncomp_ + comp; }
   int node_of(int eq) const { return node_of_eq_[eq]; }
@@ -164,7 +168,7 @@ class DofMap {
     for (const Ask& a : asked.received) {
       if (a.node < 0 || a.node >= num_nodes || boxes.owner(a.node) != me)
         throw std::logic_error("DofMap: a rank asked for a node this rank does not own");
-      if (a.reached) eq_of_node_[a.node] = 0;
+      if (a.reached) eq_of_node_.set(a.node, 0);
     }
     // This rank's nodes, numbered after the ranks before it (global equations).
     int own = 0;
@@ -178,7 +182,7 @@ class DofMap {
     }
     int e = offset;
     boxes.for_each_node(me, [&](int n) {
-      if (eq_of_node_[n] == 0) eq_of_node_[n] = e++;
+      if (eq_of_node_[n] == 0) eq_of_node_.set(n, e++);
     });
     // The answers: each asked node's global equation (or -1), back in the order asked.
     std::vector<int> answers(asked.received.size());
@@ -188,7 +192,7 @@ class DofMap {
     // increasing global equation.
     std::vector<std::pair<int, int>> others;  // (global equation, node)
     for (std::size_t k = 0; k < eq.size(); ++k) {
-      eq_of_node_[asked.sent[k].node] = eq[k];
+      eq_of_node_.set(asked.sent[k].node, eq[k]);
       if (eq[k] >= 0) others.emplace_back(eq[k], asked.sent[k].node);
     }
     std::sort(others.begin(), others.end());
@@ -199,21 +203,22 @@ class DofMap {
     boxes.for_each_node(me, [&](int n) {
       if (eq_of_node_[n] >= 0) {
         const int local = eq_of_node_[n] - offset;
-        eq_of_node_[n] = local;
+        eq_of_node_.set(n, local);
         node_of_eq_[local] = n;
         global_eq_[local] = offset + local;
       }
     });
     for (std::size_t k = 0; k < others.size(); ++k) {
       const int local = own + static_cast<int>(k);
-      eq_of_node_[others[k].second] = local;
+      eq_of_node_.set(others[k].second, local);
       node_of_eq_[local] = others[k].second;
       global_eq_[local] = others[k].first;
     }
   }
 
   int ncomp_ = 1;
-  std::vector<int> eq_of_node_;
+  /// Node -> equation (-1: inactive or unknown): pages only where this rank's nodes are.
+  PagedInts eq_of_node_;
   std::vector<int> node_of_eq_;
   std::vector<int> global_eq_;  ///< local node equation -> global (empty: the same)
   int own_first_ = 0, own_last_ = 0;  ///< this rank's own nodes' local equations
