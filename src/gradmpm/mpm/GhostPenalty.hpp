@@ -25,6 +25,7 @@
 // footing's collapse load by 10 % at alpha = 0.01: measured, docs/plasticity.md).
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 #include <vector>
 
 #include "gradmpm/core/Ranks.hpp"
@@ -57,23 +58,26 @@ class GhostFaces {
              const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
              const RankBoxes& boxes = {}) {
     const bool over_ranks = !boxes.empty();
-    const auto& n = grid.cells();
-    const int nc = grid.num_cells();
+    // The cells this rank looks at: its box and the next layer beyond its upper sides
+    // (the whole grid serially), numbered within that window, so that no array is as
+    // long as the grid on a distributed run's rank.
+    const Window w(grid, over_ranks ? &boxes : nullptr);
+    if (w.count == 0) return;  // (an empty box: no cells, no faces)
     // Points per cell and the stiffest material in each cell.
-    std::vector<int> points_in(nc, 0);
-    std::vector<double> young(nc, 0.0);
+    std::vector<int> points_in(w.count, 0);
+    std::vector<double> young(w.count, 0.0);
     const double young_max = stiffest_young(materials);
     for (int p = 0; p < pts.size(); ++p)
-      if (const auto c = grid.cell_of(pts.position[p])) {
-        const int k = cell_number(n, *c);
+      if (const auto c = grid.cell_of(pts.position[p]); c && w.contains(*c)) {  // (a rank's: in its box)
+        const int k = w.local(*c);
         ++points_in[k];
         young[k] = std::max(young[k], materials[pts.material[p]]->elasticity().young);
       }
-    if (over_ranks) share_occupancy(grid, boxes, points_in, young);
+    if (over_ranks) share_occupancy(grid, boxes, w, points_in, young);
     // Active cells (every node with dofs) and boundary cells (active; empty or beside an empty cell).
-    std::vector<char> active(nc, 0), boundary(nc, 0);
-    for (int k = 0; k < nc; ++k) {
-      const Index c = cell_index(n, k);
+    std::vector<char> active(w.count, 0), boundary(w.count, 0);
+    for (int k = 0; k < w.count; ++k) {
+      const Index c = w.cell(k);
       active[k] = 1;
       for (int corner = 0; corner < (1 << dim); ++corner) {
         Index node = c;
@@ -82,17 +86,18 @@ class GhostFaces {
       }
       boundary[k] = active[k] && points_in[k] == 0;
     }
-    // The faces x_d = const between cells L (below) and R (above).
+    // The faces x_d = const between cells L (below) and R (above), in the grid's cell order.
+    const auto& n = grid.cells();
     const Vec<dim>& h = grid.cell_size();
-    for (int k = 0; k < nc; ++k) {
-      const Index left = cell_index(n, k);
+    for (int k = 0; k < w.count; ++k) {
+      const Index left = w.cell(k);
       // A face's lowest node is its lower cell's key (every corner active): its owner's.
       if (over_ranks && boxes.owner(grid.node_index(left)) != ranks::rank()) continue;
       for (int d = 0; d < dim; ++d) {
         if (left[d] + 1 >= n[d]) continue;
         Index right = left;
         ++right[d];
-        const int r = cell_number(n, right);
+        const int r = w.local(right);  // (in the window: one layer beyond the box)
         if (!active[k] || !active[r] || !(boundary[k] || boundary[r])) continue;
         double E = std::max(young[k], young[r]);
         if (E == 0.0) E = young_max;
@@ -103,36 +108,6 @@ class GhostFaces {
 
   const std::vector<Face>& faces() const { return faces_; }
 
-  /// The occupancy (points, stiffest Young's modulus) of the cells next to this rank's
-  /// box across its upper sides, from their owners: each rank sends the cells of its box's
-  /// lower sides to the owner of the cell below them in that direction.
-  static void share_occupancy(const Grid<dim>& grid, const RankBoxes& boxes, std::vector<int>& points_in,
-                              std::vector<double>& young) {
-    struct Cell {
-      int number, points;
-      double young;
-    };
-    const auto& n = grid.cells();
-    const int me = ranks::rank();
-    const RankBoxes::Box box = boxes.box(me);
-    std::vector<std::vector<Cell>> to(ranks::size());
-    boxes.for_each_cell(me, [&](int key) {
-      const Index c = grid.node_ijk(key);
-      const int k = cell_number(n, c);
-      for (int d = 0; d < dim; ++d) {
-        if (c[d] != box.lo[d] || c[d] == 0) continue;
-        Index below = c;
-        --below[d];
-        const int r = boxes.owner(grid.node_index(below));
-        if (to[r].empty() || to[r].back().number != k) to[r].push_back({k, points_in[k], young[k]});
-      }
-    });
-    const std::vector<Cell> received = ranks::send_to(to).received;
-    for (const Cell& cell : received) {
-      points_in[cell.number] = cell.points;
-      young[cell.number] = cell.young;
-    }
-  }
   int size() const { return static_cast<int>(faces_.size()); }
 
   /// f += G du (each displacement component independently).
@@ -160,6 +135,74 @@ class GhostFaces {
 
  private:
   using Index = typename Grid<dim>::Index;
+  /// A box of cells [lo, lo + size) numbered within it (x fastest, as the grid's): a
+  /// rank's box and the layer beyond its upper sides, clamped to the grid.
+  struct Window {
+    Index lo{}, size{};
+    int count = 0;
+    Window(const Grid<dim>& grid, const RankBoxes* boxes) {
+      const auto& n = grid.cells();
+      count = 1;
+      const RankBoxes::Box box = boxes ? boxes->box(ranks::rank()) : RankBoxes::Box{};
+      for (int d = 0; d < dim; ++d) {
+        lo[d] = boxes ? box.lo[d] : 0;
+        const int hi = boxes ? std::min(box.hi[d] + 1, n[d]) : n[d];  // exclusive
+        size[d] = boxes && box.empty() ? 0 : hi - lo[d];
+        count *= size[d];
+      }
+    }
+    bool contains(const Index& c) const {
+      for (int d = 0; d < dim; ++d)
+        if (c[d] < lo[d] || c[d] >= lo[d] + size[d]) return false;
+      return true;
+    }
+    int local(const Index& c) const {
+      int k = 0;
+      for (int d = dim - 1; d >= 0; --d) k = k * size[d] + (c[d] - lo[d]);
+      return k;
+    }
+    Index cell(int k) const {
+      Index c{};
+      for (int d = 0; d < dim; ++d) {
+        c[d] = lo[d] + k % size[d];
+        k /= size[d];
+      }
+      return c;
+    }
+  };
+  /// The occupancy (points, stiffest Young's modulus) of the cells next to this rank's
+  /// box across its upper sides, from their owners: each rank sends the cells of its box's
+  /// lower sides to the owner of the cell below them in that direction.
+  static void share_occupancy(const Grid<dim>& grid, const RankBoxes& boxes, const Window& w,
+                              std::vector<int>& points_in, std::vector<double>& young) {
+    struct Cell {
+      int number, points;  ///< the grid's cell number
+      double young;
+    };
+    const auto& n = grid.cells();
+    const int me = ranks::rank();
+    const RankBoxes::Box box = boxes.box(me);
+    std::vector<std::vector<Cell>> to(ranks::size());
+    boxes.for_each_cell(me, [&](int key) {
+      const Index c = grid.node_ijk(key);
+      const int k = w.local(c);
+      for (int d = 0; d < dim; ++d) {
+        if (c[d] != box.lo[d] || c[d] == 0) continue;
+        Index below = c;
+        --below[d];
+        const int r = boxes.owner(grid.node_index(below));
+        const int number = cell_number(n, c);
+        if (to[r].empty() || to[r].back().number != number) to[r].push_back({number, points_in[k], young[k]});
+      }
+    });
+    for (const Cell& cell : ranks::send_to(to).received) {
+      const Index c = cell_index(n, cell.number);
+      if (!w.contains(c)) throw std::logic_error("GhostFaces: a cell's occupancy sent to a rank not beside it");
+      points_in[w.local(c)] = cell.points;
+      young[w.local(c)] = cell.young;
+    }
+  }
+
   static int cell_number(const Index& n, const Index& c) {
     int k = 0;
     for (int d = dim - 1; d >= 0; --d) k = k * n[d] + c[d];
