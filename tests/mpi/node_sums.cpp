@@ -48,8 +48,14 @@ int main(int argc, char** argv) {
   touch((37 * me + 5) % num_nodes);
   std::vector<double> whole = part;
   ranks::sum(whole.data(), whole.size());
-  std::vector<double> summed = part;
-  sum_at_owners(boxes, summed, touched);
+  Paged<double> summed(num_nodes, 0.0);  // (as the callers hold it: pages near the touched nodes)
+  std::vector<int> touched_nodes;
+  for (int n = 0; n < num_nodes; ++n)
+    if (touched[n]) {
+      summed.set(n, part[n]);
+      touched_nodes.push_back(n);
+    }
+  sum_at_owners(boxes, summed, touched_nodes);
   int failures = 0, exact = 0;
   for (int n = 0; n < num_nodes; ++n) {
     const bool total = touched[n] || boxes.owner(n) == me;

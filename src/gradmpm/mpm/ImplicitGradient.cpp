@@ -31,17 +31,17 @@ PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> 
   for (int p = 0; p < m.points.size(); ++p)
     if (!on[m.points.material[p]]) st[p].count = 0;
   const double l2 = m.regularisation.length_scale * m.regularisation.length_scale;
-  std::vector<double> diagonal(m.grid.num_nodes(), 0.0);
-  std::vector<char> touched(m.rank_boxes.empty() ? 0 : m.grid.num_nodes(), 0);
+  Paged<double> diagonal(m.grid.num_nodes(), 0.0);  // (pages near the stencils' nodes only)
   for (int p = 0; p < m.points.size(); ++p)
-    for (int a = 0; a < st[p].count; ++a) {
-      diagonal[st[p].node[a]] += m.points.volume[p] * (st[p].N[a] * st[p].N[a] + l2 * st[p].dN[a].squaredNorm());
-      if (!touched.empty()) touched[st[p].node[a]] = 1;
-    }
+    for (int a = 0; a < st[p].count; ++a)
+      diagonal.at(st[p].node[a]) += m.points.volume[p] * (st[p].N[a] * st[p].N[a] + l2 * st[p].dN[a].squaredNorm());
   // (A distributed run: the totals at this rank's own and stencils' nodes, then the
   // largest over the ranks.)
-  if (!m.rank_boxes.empty()) sum_at_owners(m.rank_boxes, diagonal, touched);
-  double largest = *std::max_element(diagonal.begin(), diagonal.end());
+  if (!m.rank_boxes.empty()) sum_at_owners(m.rank_boxes, diagonal, stencil_nodes(st));
+  double largest = 0.0;  // (the diagonal is not negative: the unheld nodes' zeros change nothing)
+  for (int page = 0; page < diagonal.num_pages(); ++page)
+    if (diagonal.allocated(page))
+      largest = std::max(largest, *std::max_element(diagonal.page(page), diagonal.page(page) + Paged<double>::page_size));
   if (!m.rank_boxes.empty()) ranks::max(&largest, 1);
   const double weak = kWeakNode * largest;
   drop_nodes(st, [&](int node) { return diagonal[node] < weak; });

@@ -110,17 +110,14 @@ void drop_nodes(PointStencils<dim>& st, Drop&& drop) {
 template <int dim>
 int drop_weak_nodes(PointStencils<dim>& st, const MaterialPoints<dim>& points, int num_nodes, double cell_volume,
                     double relative, const RankBoxes* boxes = nullptr) {
-  std::vector<double> support(num_nodes, 0.0);
-  std::vector<char> touched(boxes ? num_nodes : 0, 0);
+  Paged<double> support(num_nodes, 0.0);  // (pages near the stencils' nodes only)
   for (std::size_t p = 0; p < st.size(); ++p)
-    for (int a = 0; a < st[p].count; ++a) {
-      support[st[p].node[a]] += st[p].N[a] * points.volume[p];
-      if (boxes) touched[st[p].node[a]] = 1;
-    }
+    for (int a = 0; a < st[p].count; ++a) support.at(st[p].node[a]) += st[p].N[a] * points.volume[p];
+  const std::vector<int> touched = stencil_nodes(st);
   if (boxes) sum_at_owners(*boxes, support, touched);
   const double floor = relative * cell_volume;
-  int dropped = 0;
-  for (int n = 0; n < num_nodes; ++n) dropped += support[n] > 0.0 && support[n] < floor;
+  int dropped = 0;  // (of the stencils' nodes: the ones a drop can change)
+  for (const int n : touched) dropped += support[n] > 0.0 && support[n] < floor;
   if (dropped == 0) return 0;
   drop_nodes(st, [&](int node) { return support[node] < floor; });
   return dropped;
