@@ -22,23 +22,14 @@
 #include "gradmpm/app/MpiLaunch.hpp"
 #include "gradmpm/app/RunCase.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/LoadTimeEnvironment.hpp"
 #include "gradmpm/core/Ranks.hpp"
 
-namespace {
-// GNU OpenMP's idle threads spin while they wait for work: on a machine shared with other
-// processes that made runs 10-25x slower than one thread (issue 12). libgomp reads
-// OMP_WAIT_POLICY when it is loaded, before main, so the first start sets it to passive and
-// executes itself again. A user's own OMP_WAIT_POLICY is kept.
-void prefer_passive_openmp(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GRADMPM_KEEP_OPENMP")) return;
-  ::setenv("OMP_WAIT_POLICY", "passive", 1);
-  ::setenv("GRADMPM_KEEP_OPENMP", "1", 1);  // never twice, whatever exec does
-  ::execv("/proc/self/exe", argv);          // returns only when it fails: run on as we are
-}
-}  // namespace
 
 int main(int argc, char** argv) {
-  prefer_passive_openmp(argv);
+  // OpenMP waiting passively and malloc on huge pages: read when the program loads, so
+  // set by executing once more (core/LoadTimeEnvironment.hpp).
+  gradmpm::set_load_time_environment(argv);
   CLI::App app{
       "gradmpm: implicit quasi-static Material Point Method with Ru-Aifantis gradient elasticity.\n"
       "Each analysis is described by a TOML case file (see examples/ and docs/case-files.md)."};

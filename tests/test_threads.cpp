@@ -4,9 +4,18 @@
 //  R2 --threads N sets the threads of a run, and the answer does not depend on them
 //     (points_final.csv byte for byte with 1 and 2 threads);
 //  R3 --threads 0 is refused with exit 2.
+// and on the run's other load-time settings (core/LoadTimeEnvironment.hpp):
+//  R4 glibc's malloc asks for transparent huge pages (glibc.malloc.hugetlb=1, added to the
+//     user's GLIBC_TUNABLES) unless the user's GLIBC_TUNABLES names that tunable: first
+//     touches of 4 KiB pages made a load step's allocations cost 0.2-0.3 s on this machine
+//     kind (docs/performance.md);
+//  R5 the tunable is read as glibc reads GLIBC_TUNABLES (colon-separated, last one wins).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "CliTestUtil.hpp"
+#include "gradmpm/core/LoadTimeEnvironment.hpp"
 
 using namespace gradmpm::test;
 
@@ -48,4 +57,35 @@ TEST_F(Threads, ZeroThreadsIsRefused) {
   const CliResult r = run_gradmpm("run " + footing() + " --threads 0 --out " + (dir / "z").string());
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("--threads"), std::string::npos) << r.err;
+}
+
+TEST_F(Threads, MallocAsksForHugePagesUnlessTheUserSaysOtherwise) {
+  CliResult r = run_gradmpm("run " + footing() + " --out " + (dir / "h").string(), "env -u GLIBC_TUNABLES");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("), huge pages (glibc.malloc.hugetlb=1)"), std::string::npos) << r.out;
+  r = run_gradmpm("run " + footing() + " --out " + (dir / "o").string(), "GLIBC_TUNABLES=glibc.malloc.hugetlb=0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("), no huge pages"), std::string::npos) << r.out;
+  // another tunable of the user's: hugetlb is added beside it
+  r = run_gradmpm("run " + footing() + " --out " + (dir / "a").string(), "GLIBC_TUNABLES=glibc.malloc.arena_max=2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("), huge pages (glibc.malloc.hugetlb=1)"), std::string::npos) << r.out;
+}
+
+TEST(LoadTimeEnvironment, HugetlbIsReadAsGlibcReadsItsTunables) {
+  const char* saved = std::getenv("GLIBC_TUNABLES");
+  const std::string keep = saved ? saved : "";
+  const auto read = [](const char* tunables) {
+    ::setenv("GLIBC_TUNABLES", tunables, 1);
+    return gradmpm::malloc_hugetlb();
+  };
+  EXPECT_EQ(read("glibc.malloc.hugetlb=1"), "1");
+  EXPECT_EQ(read("glibc.malloc.arena_max=2:glibc.malloc.hugetlb=0"), "0");
+  EXPECT_EQ(read("glibc.malloc.hugetlb=1:glibc.malloc.arena_max=2"), "1");
+  EXPECT_EQ(read("glibc.malloc.hugetlb=1:glibc.malloc.hugetlb=0"), "0");  // the last one
+  EXPECT_EQ(read("glibc.malloc.arena_max=2"), "");
+  EXPECT_EQ(read("xglibc.malloc.hugetlb=1"), "");  // another name that ends the same
+  ::unsetenv("GLIBC_TUNABLES");
+  EXPECT_EQ(gradmpm::malloc_hugetlb(), "");
+  if (saved) ::setenv("GLIBC_TUNABLES", keep.c_str(), 1);
 }

@@ -21,6 +21,7 @@
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/app/PointColumns.hpp"
 #include "gradmpm/core/Errors.hpp"
+#include "gradmpm/core/LoadTimeEnvironment.hpp"
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
@@ -311,11 +312,13 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
 
   if (!quiet)
     fmt::print(
-        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}){}\n",
+        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}), {}{}\n",
         dim, static_cast<long long>(points_in_all), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
         ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"),
+        malloc_hugetlb().empty() || malloc_hugetlb() == "0" ? std::string("no huge pages")
+                                                            : fmt::format("huge pages (glibc.malloc.hugetlb={})", malloc_hugetlb()),
         partition);
   // Everything the outputs accumulate from step to step, for a checkpoint.
   auto save_outputs = [&](Archive& a) {
