@@ -79,6 +79,24 @@ TEST(RankBoxes, EveryCellAndNodeHasOneOwnerWhoseBoxHoldsIt) {
   EXPECT_TRUE(b.near(0, 4 + 6 * 3, 2));
 }
 
+// The numbering by owners visits only the nodes near a rank's box (DofMap): those must be
+// exactly the nodes near() accepts, ascending, for every rank and width (an empty box's too).
+TEST(RankBoxes, TheNodesNearABoxAreVisitedOnceAscendingAndNoOthers) {
+  const RankBoxes boxes3(std::vector<int>{5, 4, 3}, {{0, 2, 5}, {0, 1, 4}, {0, 3}});
+  const RankBoxes boxes2(std::vector<int>{4, 2}, {{0, 2, 2, 4}, {0, 2}});  // rank 1's box has no cells
+  for (const RankBoxes* b : {&boxes3, &boxes2})
+    for (int r = 0; r < b->size(); ++r)
+      for (int layers : {0, 1, 2, 7}) {
+        std::vector<int> visited;
+        b->for_each_node_near(r, layers, [&](int n) { visited.push_back(n); });
+        std::vector<int> expected;
+        for (int n = 0; n < b->num_nodes(); ++n)
+          if (b->near(r, n, layers)) expected.push_back(n);
+        EXPECT_FALSE(visited.empty());
+        EXPECT_EQ(visited, expected) << b->dim() << "D, rank " << r << ", " << layers << " layer(s)";
+      }
+}
+
 TEST(RankBoxes, ASquareBodyOnFourRanksIsCutIntoFourEqualBoxesAndOnTwoIntoSlabs) {
   // A 10 x 10 block of cells in a 20 x 20 grid: 2 x 2 boxes of 25 cells (cuts surface 20
   // cells against 30 for four slabs, both balanced); on two ranks one cut of the slowest

@@ -227,6 +227,22 @@ class RankBoxes {
     return true;
   }
 
+  /// Calls f(n) for each node n with near(r, n, layers), ascending: the nodes of rank r's
+  /// box widened by `layers` node layers, within the grid (an empty box too, as near()).
+  template <class F>
+  void for_each_node_near(int r, int layers, F&& f) const {
+    Box b = box(r);
+    std::array<int, 3> size{1, 1, 1};
+    for (int d = 0; d < dim(); ++d) {
+      size[d] = cells_[d] + 1;
+      b.lo[d] = std::max(0, b.lo[d] - layers);
+      b.hi[d] = std::min(cells_[d], b.hi[d] + layers) + 1;  // (near() includes hi + layers)
+    }
+    for (int k = b.lo[2]; k < b.hi[2]; ++k)
+      for (int j = b.lo[1]; j < b.hi[1]; ++j)
+        for (int i = b.lo[0]; i < b.hi[0]; ++i) f(i + size[0] * (j + size[1] * k));
+  }
+
   /// Calls f(key) for the lower-corner node of each of rank r's cells, ascending.
   template <class F>
   void for_each_cell(int r, F&& f) const {

@@ -42,11 +42,15 @@ class DofMap {
     if (boxes.empty()) {
       if (ranks::distributed())  // each rank would number only its own points' nodes
         throw std::logic_error("DofMap: a distributed run's numbering needs the partition of the grid (Model::rank_boxes)");
-      for (int n = 0; n < num_nodes; ++n)
-        if (eq_of_node_[n] == 0) {
-          eq_of_node_.set(n, static_cast<int>(node_of_eq_.size()));
-          node_of_eq_.push_back(n);
-        }
+      for (int p = 0; p < eq_of_node_.num_pages(); ++p) {  // the pages the stencils reach, in order
+        if (!eq_of_node_.allocated(p)) continue;
+        const int first = p * PagedInts::page_size, last = std::min(num_nodes, first + PagedInts::page_size);
+        for (int n = first; n < last; ++n)
+          if (eq_of_node_[n] == 0) {
+            eq_of_node_.set(n, static_cast<int>(node_of_eq_.size()));
+            node_of_eq_.push_back(n);
+          }
+      }
       return;
     }
     if (boxes.size() != ranks::size() || boxes.num_nodes() != num_nodes)
@@ -156,13 +160,26 @@ class DofMap {
     struct Ask {
       int node, reached;
     };
+    // Only nodes the stencils reach (in the pages they allocated) or near the box can be
+    // asked for: those are visited, not the whole grid (a rank's box and its neighbours'
+    // edges, where the grid may have 1e8 nodes).
+    std::vector<int> candidates;
+    for (int p = 0; p < eq_of_node_.num_pages(); ++p) {
+      if (!eq_of_node_.allocated(p)) continue;
+      const int first = p * PagedInts::page_size, last = std::min(num_nodes, first + PagedInts::page_size);
+      for (int n = first; n < last; ++n)
+        if (eq_of_node_[n] == 0) candidates.push_back(n);
+    }
+    const std::size_t reached_count = candidates.size();
+    boxes.for_each_node_near(me, margin, [&](int n) {
+      if (eq_of_node_[n] != 0) candidates.push_back(n);  // (the reached ones are listed)
+    });
+    std::inplace_merge(candidates.begin(), candidates.begin() + reached_count, candidates.end());
     std::vector<std::vector<Ask>> to(size);
-    for (int n = 0; n < num_nodes; ++n) {
+    for (const int n : candidates) {
       const int r = boxes.owner(n);
       if (r == me) continue;
-      const bool reached = eq_of_node_[n] == 0;
-      if (!reached && !boxes.near(me, n, margin)) continue;
-      to[r].push_back({n, reached ? 1 : 0});
+      to[r].push_back({n, eq_of_node_[n] == 0 ? 1 : 0});
     }
     const ranks::Sent<Ask> asked = ranks::send_to(to);
     for (const Ask& a : asked.received) {
