@@ -5,6 +5,7 @@
 #include <Eigen/CholmodSupport>
 
 #include "gradmpm/solver/linear/EigenSolver.hpp"
+#include "gradmpm/solver/linear/SerialOpenMpRegions.hpp"
 
 namespace gradmpm {
 
@@ -27,6 +28,8 @@ namespace {
 /// With the reference BLAS, CHOLMOD's team is what runs in parallel: dynamic adjustment
 /// caps it at the caller's thread setting and the idle processors (1e5-dof 2D: 1.13 ->
 /// 0.75 s against the fixed 4).
+/// Either way, the regions that run serially run as plain calls (SerialOpenMpRegions:
+/// libgomp spends a system call on each, about 69 000 per factorisation at 1e5 dof in 2D).
 bool set_blas_threads(int n) {
   using SetThreads = void (*)(int);
   static const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
@@ -51,6 +54,7 @@ class CholmodThreadCap {
 
  private:
   int dynamic_, levels_;
+  SerialOpenMpRegions serial_regions_;
 };
 
 using Decomposition = Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>;
