@@ -5,6 +5,8 @@
 // first write of another value there, and copies whole.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "gradmpm/core/PagedInts.hpp"
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/DofMap.hpp"
@@ -35,6 +37,27 @@ TEST(PagedInts, ReadsTheDefaultAndTheWrittenValuesAndHoldsOnlyWrittenPages) {
   PagedInts c = std::move(b);  // a move keeps them
   EXPECT_EQ(c[n - 1], 7);
   EXPECT_EQ(c[3 * PagedInts::page_size + 1], 42);
+}
+
+// for_each_held visits the allocated pages' entries only, ascending, and none beyond
+// size() (the last page is partial): the numbering's and the regularisation's walk.
+TEST(PagedInts, ForEachHeldVisitsTheAllocatedPagesEntriesInOrder) {
+  const int n = 10 * PagedInts::page_size + 7;
+  PagedInts a(n, -1);
+  a.set(n - 1, 7);
+  a.set(3 * PagedInts::page_size + 2, 43);
+  std::vector<int> seen;
+  long set = 0;
+  a.for_each_held([&](int i, int v) {
+    seen.push_back(i);
+    if (v != -1) set += static_cast<long>(i) * v;
+  });
+  ASSERT_EQ(seen.size(), static_cast<std::size_t>(PagedInts::page_size + 7));  // page 3 and the last page's 7
+  EXPECT_EQ(seen.front(), 3 * PagedInts::page_size);
+  EXPECT_EQ(seen[PagedInts::page_size - 1], 4 * PagedInts::page_size - 1);
+  EXPECT_EQ(seen[PagedInts::page_size], 10 * PagedInts::page_size);
+  EXPECT_EQ(seen.back(), n - 1);
+  EXPECT_EQ(set, 43L * (3 * PagedInts::page_size + 2) + 7L * (n - 1));
 }
 
 TEST(PagedInts, ADofMapOfAFewStencilsOnALargeGridHoldsAFewPages) {

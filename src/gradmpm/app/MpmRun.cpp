@@ -231,9 +231,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
         for (int n : m.node_sets[b].nodes) {
           int at = n;  // where n's values are
           if (split) {
-            const auto it = std::lower_bound(listed.begin(), listed.end(), n);
-            if (m.rank_boxes.owner(n) != ranks::rank() || it == listed.end() || *it != n) continue;
-            at = static_cast<int>(it - listed.begin());
+            if (m.rank_boxes.owner(n) != ranks::rank()) continue;
+            at = listed_position(listed, n);
+            if (at < 0) continue;
           } else if (!solved[n]) {
             continue;
           }
@@ -310,6 +310,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
                             *std::min_element(held.begin(), held.end()), *std::max_element(held.begin(), held.end()));
   }
 
+  const std::string hugetlb = malloc_hugetlb();
   if (!quiet)
     fmt::print(
         "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}), {}{}\n",
@@ -317,8 +318,8 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
         ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"),
-        malloc_hugetlb().empty() || malloc_hugetlb() == "0" ? std::string("no huge pages")
-                                                            : fmt::format("huge pages (glibc.malloc.hugetlb={})", malloc_hugetlb()),
+        hugetlb.empty() || hugetlb == "0" ? std::string("no huge pages")
+                                          : fmt::format("huge pages (glibc.malloc.hugetlb={})", hugetlb),
         partition);
   // Everything the outputs accumulate from step to step, for a checkpoint.
   auto save_outputs = [&](Archive& a) {

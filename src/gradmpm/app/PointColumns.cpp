@@ -233,9 +233,8 @@ std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info)
     for (std::size_t k = 0; k < nn; ++k) {
       Eigen::Index n = static_cast<Eigen::Index>(k);  // where the k-th point's values are
       if (split) {
-        const auto it = std::lower_bound(listed.begin(), listed.end(), at[k]);
-        if (it == listed.end() || *it != at[k]) continue;  // an inactive corner: zero
-        n = it - listed.begin();
+        n = listed_position(listed, at[k]);
+        if (n < 0) continue;  // an inactive corner: zero
       }
       for (int d = 0; d < dim; ++d) du.values[3 * k + d] = u[n * dim + d];
       mass.values[k] = nodal_mass[n];

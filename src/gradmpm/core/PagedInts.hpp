@@ -69,6 +69,16 @@ class Paged {
   T* page(int p) { return pages_[p]; }
   const T* page(int p) const { return pages_[p]; }
   bool allocated(int p) const { return pages_[p] != absent_.data(); }
+  /// Calls f(i, value) for every entry of the allocated pages, i ascending within
+  /// [0, size()): the entries that may differ from the default (every other one reads as it).
+  template <class F>
+  void for_each_held(F&& f) const {
+    for (int p = 0; p < num_pages(); ++p) {
+      if (!allocated(p)) continue;
+      const int first = p * page_size, last = std::min(size_, first + page_size);
+      for (int i = first; i < last; ++i) f(i, pages_[p][i - first]);
+    }
+  }
   /// Bytes held in pages (not counting the page table).
   std::size_t bytes() const { return owned_.size() * page_size * sizeof(T); }
 

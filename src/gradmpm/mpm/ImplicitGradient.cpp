@@ -39,9 +39,7 @@ PointStencils<dim> regularised_stencils(const Model<dim>& m, PointStencils<dim> 
   // largest over the ranks.)
   if (!m.rank_boxes.empty()) sum_at_owners(m.rank_boxes, diagonal, stencil_nodes(st));
   double largest = 0.0;  // (the diagonal is not negative: the unheld nodes' zeros change nothing)
-  for (int page = 0; page < diagonal.num_pages(); ++page)
-    if (diagonal.allocated(page))
-      largest = std::max(largest, *std::max_element(diagonal.page(page), diagonal.page(page) + Paged<double>::page_size));
+  diagonal.for_each_held([&](int, double v) { largest = std::max(largest, v); });
   if (!m.rank_boxes.empty()) ranks::max(&largest, 1);
   const double weak = kWeakNode * largest;
   drop_nodes(st, [&](int node) { return diagonal[node] < weak; });

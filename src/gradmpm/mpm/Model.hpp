@@ -232,4 +232,11 @@ struct StepInfo {
   long nonzeros = 0;           ///< entries of the tangent
 };
 
+/// Where node n's values are among a distributed run's listed nodes (ascending, as
+/// StepInfo::grid_nodes() gives them): its position, or -1 if it is not listed.
+inline int listed_position(const std::vector<int>& listed, int n) {
+  const auto it = std::lower_bound(listed.begin(), listed.end(), n);
+  return it == listed.end() || *it != n ? -1 : static_cast<int>(it - listed.begin());
+}
+
 }  // namespace gradmpm

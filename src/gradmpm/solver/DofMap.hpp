@@ -42,15 +42,11 @@ class DofMap {
     if (boxes.empty()) {
       if (ranks::distributed())  // each rank would number only its own points' nodes
         throw std::logic_error("DofMap: a distributed run's numbering needs the partition of the grid (Model::rank_boxes)");
-      for (int p = 0; p < eq_of_node_.num_pages(); ++p) {  // the pages the stencils reach, in order
-        if (!eq_of_node_.allocated(p)) continue;
-        const int first = p * PagedInts::page_size, last = std::min(num_nodes, first + PagedInts::page_size);
-        for (int n = first; n < last; ++n)
-          if (eq_of_node_[n] == 0) {
-            eq_of_node_.set(n, static_cast<int>(node_of_eq_.size()));
-            node_of_eq_.push_back(n);
-          }
-      }
+      // The nodes the stencils reach (in the pages they allocated), in increasing index.
+      eq_of_node_.for_each_held([&](int n, int eq) {
+        if (eq == 0) node_of_eq_.push_back(n);
+      });
+      for (std::size_t e = 0; e < node_of_eq_.size(); ++e) eq_of_node_.set(node_of_eq_[e], static_cast<int>(e));
       return;
     }
     if (boxes.size() != ranks::size() || boxes.num_nodes() != num_nodes)
@@ -164,12 +160,9 @@ class DofMap {
     // asked for: those are visited, not the whole grid (a rank's box and its neighbours'
     // edges, where the grid may have 1e8 nodes).
     std::vector<int> candidates;
-    for (int p = 0; p < eq_of_node_.num_pages(); ++p) {
-      if (!eq_of_node_.allocated(p)) continue;
-      const int first = p * PagedInts::page_size, last = std::min(num_nodes, first + PagedInts::page_size);
-      for (int n = first; n < last; ++n)
-        if (eq_of_node_[n] == 0) candidates.push_back(n);
-    }
+    eq_of_node_.for_each_held([&](int n, int eq) {
+      if (eq == 0) candidates.push_back(n);
+    });
     const std::size_t reached_count = candidates.size();
     boxes.for_each_node_near(me, margin, [&](int n) {
       if (eq_of_node_[n] != 0) candidates.push_back(n);  // (the reached ones are listed)
