@@ -231,10 +231,12 @@ int main(int argc, char** argv) {
   }
   csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_"
          "mib,nonlocal_s,staggers,solver,krylov_its,wall_s,ranks\n";
-  if (ranks::rank() == 0)
+  if (ranks::rank() == 0) {
+    const std::string hugetlb = malloc_hugetlb();
     fmt::print("bench_mpm: {} rank(s), {} thread(s) each, {} sweep, glibc.malloc.hugetlb={}; seconds per Newton "
                "iteration\n",
-               ranks::size(), threads, quick ? "quick" : "full", malloc_hugetlb().empty() ? "0" : malloc_hugetlb());
+               ranks::size(), threads, quick ? "quick" : "full", hugetlb.empty() ? "0" : hugetlb);
+  }
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
   std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};

@@ -28,16 +28,19 @@ class Threads : public ScratchDirTest {
            "output.plot=false --set load_steps.count=10 "
            "--set 'constraints[3].displacement=[0.0,-0.05]'";
   }
+  /// Runs the footing into dir/folder with `env` before the command: exit 0, and `says`
+  /// in what the run prints (its first line names the load-time settings).
+  void expect_run_says(const std::string& folder, const std::string& env, const std::string& says) const {
+    const CliResult r = run_gradmpm("run " + footing() + " --out " + (dir / folder).string(), env);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(says), std::string::npos) << r.out;
+  }
 };
 }  // namespace
 
 TEST_F(Threads, OpenMpWaitsPassivelyUnlessTheUserSaysOtherwise) {
-  CliResult r = run_gradmpm("run " + footing() + " --out " + (dir / "a").string(), "env -u OMP_WAIT_POLICY");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("(OpenMP waiting passive)"), std::string::npos) << r.out;
-  r = run_gradmpm("run " + footing() + " --out " + (dir / "b").string(), "OMP_WAIT_POLICY=active");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("(OpenMP waiting active)"), std::string::npos) << r.out;
+  expect_run_says("a", "env -u OMP_WAIT_POLICY", "(OpenMP waiting passive)");
+  expect_run_says("b", "OMP_WAIT_POLICY=active", "(OpenMP waiting active)");
 }
 
 TEST_F(Threads, TheAnswerDoesNotDependOnTheThreads) {
@@ -60,16 +63,10 @@ TEST_F(Threads, ZeroThreadsIsRefused) {
 }
 
 TEST_F(Threads, MallocAsksForHugePagesUnlessTheUserSaysOtherwise) {
-  CliResult r = run_gradmpm("run " + footing() + " --out " + (dir / "h").string(), "env -u GLIBC_TUNABLES");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("), huge pages (glibc.malloc.hugetlb=1)"), std::string::npos) << r.out;
-  r = run_gradmpm("run " + footing() + " --out " + (dir / "o").string(), "GLIBC_TUNABLES=glibc.malloc.hugetlb=0");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("), no huge pages"), std::string::npos) << r.out;
+  expect_run_says("h", "env -u GLIBC_TUNABLES", "), huge pages (glibc.malloc.hugetlb=1)");
+  expect_run_says("o", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0", "), no huge pages");
   // another tunable of the user's: hugetlb is added beside it
-  r = run_gradmpm("run " + footing() + " --out " + (dir / "a").string(), "GLIBC_TUNABLES=glibc.malloc.arena_max=2");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("), huge pages (glibc.malloc.hugetlb=1)"), std::string::npos) << r.out;
+  expect_run_says("a", "GLIBC_TUNABLES=glibc.malloc.arena_max=2", "), huge pages (glibc.malloc.hugetlb=1)");
 }
 
 TEST(LoadTimeEnvironment, HugetlbIsReadAsGlibcReadsItsTunables) {
