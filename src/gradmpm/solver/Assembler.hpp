@@ -33,11 +33,15 @@ class Assembler {
 
   /// Calls f(p) for every point; concurrent calls (OpenMP threads) are given points whose
   /// stencils share no node, so f may add into nodal arrays without atomics. Points are
-  /// grouped in buckets by the lowest node of their stencil; a stencil spans at most 3
-  /// nodes per direction, so buckets whose anchors differ by 3 or more in some direction
-  /// touch disjoint nodes: 3^dim colours, the buckets of one colour run in parallel, the
-  /// points of a bucket in order. The additions into each node happen in the same order
-  /// whatever the thread count, so results are identical bit for bit.
+  /// grouped in buckets by the lowest node of their stencil (its anchor), and the buckets
+  /// in strips of kStripWidth rows of anchors across the grid's outermost direction (the
+  /// slowest-varying node index). A stencil spans at most 3 nodes per direction, so a
+  /// strip's stencils reach at most kStripWidth + 2 node rows, and strips two apart touch
+  /// disjoint nodes: the even strips run in parallel, then the odd ones; the buckets of a
+  /// strip run in order of their anchors (memory order of the matrix's columns, so the
+  /// scatter finds them in cache), the points of a bucket in order. The additions into
+  /// each node happen in the same order whatever the thread count, so results are
+  /// identical bit for bit.
   template <class F>
   void for_each_point_disjoint(F&& f) const {
     if (!coloured_) {
@@ -204,48 +208,64 @@ class Assembler {
   }
 
  private:
-  /// Buckets and colours as flat arrays: the points of bucket b are
-  /// order_[bucket_start_[b] .. bucket_start_[b + 1]), the buckets of colour c are
-  /// colour_start_[c] .. colour_start_[c + 1]) (one allocation each, not one per bucket).
+  /// Anchor rows per strip (for_each_point_disjoint). Two is the least that keeps strips of
+  /// one parity apart; a fixed number, not one chosen by the thread count, so that the
+  /// order of the additions, and with it the results, do not depend on the threads.
+  static constexpr int kStripWidth = 2;
+
+  /// Buckets and strips as flat arrays: the points of bucket b are
+  /// order_[bucket_start_[b] .. bucket_start_[b + 1]), the buckets of strip s are
+  /// strip_start_[s] .. strip_start_[s + 1]), the strips of parity q are listed in
+  /// strips_of_parity_[q] (one allocation each, not one per bucket). Empty strips and
+  /// buckets are not stored.
   void colour(const Grid<dim>& grid) {
-    const int np = static_cast<int>(subset_.size()), colours = ipow(3, dim);
-    std::vector<int> anchor_of(np), colour_of(np);  // of subset_[k], by k
+    const int np = static_cast<int>(subset_.size()), nn = grid.num_nodes();
+    std::vector<int> anchor_of(np);  // of subset_[k], by k
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int k = 0; k < np; ++k) {
-      const int p = subset_[k];
+      const Stencil<dim>& s = st_[subset_[k]];
       typename Grid<dim>::Index anchor;
       anchor.fill(std::numeric_limits<int>::max());
-      for (int a = 0; a < st_[p].count; ++a) {
-        const auto ijk = grid.node_ijk(st_[p].node[a]);
+      for (int a = 0; a < s.count; ++a) {
+        const auto ijk = grid.node_ijk(s.node[a]);
         for (int d = 0; d < dim; ++d) anchor[d] = std::min(anchor[d], ijk[d]);
       }
-      int c = 0;
-      for (int d = dim - 1; d >= 0; --d) c = 3 * c + anchor[d] % 3;
       anchor_of[k] = grid.node_index(anchor);
-      colour_of[k] = c;
     }
-    // Buckets numbered per colour in the order their first point comes.
-    std::vector<int> bucket_of(grid.num_nodes(), -1), in_colour(colours, 0), local(np);
-    for (int k = 0; k < np; ++k) {
-      int& b = bucket_of[anchor_of[k]];
-      if (b < 0) b = in_colour[colour_of[k]]++;
-      local[k] = b;
-    }
-    colour_start_.assign(colours + 1, 0);
-    for (int c = 0; c < colours; ++c) colour_start_[c + 1] = colour_start_[c] + in_colour[c];
-    const int nb = colour_start_[colours];
-    bucket_start_.assign(nb + 1, 0);
-    for (int k = 0; k < np; ++k) ++bucket_start_[colour_start_[colour_of[k]] + local[k] + 1];
-    for (int b = 0; b < nb; ++b) bucket_start_[b + 1] += bucket_start_[b];
+    // Points by anchor (a counting sort: buckets in node order, points in index order).
+    std::vector<int> first(nn + 1, 0);
+    for (int k = 0; k < np; ++k) ++first[anchor_of[k] + 1];
+    for (int n = 0; n < nn; ++n) first[n + 1] += first[n];
     order_.resize(np);
-    std::vector<int> next(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (int k = 0; k < np; ++k) order_[next[colour_start_[colour_of[k]] + local[k]]++] = subset_[k];
+    {
+      std::vector<int> next(first.begin(), first.end() - 1);
+      for (int k = 0; k < np; ++k) order_[next[anchor_of[k]]++] = subset_[k];
+    }
+    // Non-empty buckets, and the strips they fall in (node order is strip order).
+    const int row_nodes = nn / (grid.cells()[dim - 1] + 1);  // nodes per index of the outermost direction
+    bucket_start_.clear();
+    strip_start_.clear();
+    for (auto& list : strips_of_parity_) list.clear();
+    int last_strip = -1;
+    for (int n = 0; n < nn; ++n) {
+      if (first[n] == first[n + 1]) continue;
+      const int strip = n / row_nodes / kStripWidth;
+      if (strip != last_strip) {
+        strips_of_parity_[strip % 2].push_back(static_cast<int>(strip_start_.size()));
+        strip_start_.push_back(static_cast<int>(bucket_start_.size()));
+        last_strip = strip;
+      }
+      bucket_start_.push_back(first[n]);
+    }
+    bucket_start_.push_back(np);
+    strip_start_.push_back(static_cast<int>(bucket_start_.size()) - 1);
     // Within a bucket, the points of one stencil together (for_each_run), in index order.
     auto before = [&](int p, int q) {
       const Stencil<dim>&s = st_[p], &t = st_[q];
       return std::lexicographical_compare(s.node.begin(), s.node.begin() + s.count, t.node.begin(),
                                           t.node.begin() + t.count);
     };
+    const int nb = static_cast<int>(bucket_start_.size()) - 1;
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int b = 0; b < nb; ++b)
       std::stable_sort(order_.begin() + bucket_start_[b], order_.begin() + bucket_start_[b + 1], before);
@@ -259,14 +279,16 @@ class Assembler {
     return true;
   }
 
-  /// f(first, last) for the points of every bucket, colour by colour; the buckets of a
-  /// colour on threads.
+  /// f(first, last) for the points of every bucket: the even strips on threads, then the
+  /// odd ones; a strip's buckets in order on one thread.
   template <class F>
   void for_each_bucket(F&& f) const {
-    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
-#pragma omp parallel for schedule(dynamic, 16) if (use_threads(points_.size()))
-      for (int b = colour_start_[c]; b < colour_start_[c + 1]; ++b)
-        f(order_.data() + bucket_start_[b], order_.data() + bucket_start_[b + 1]);
+    for (const std::vector<int>& strips : strips_of_parity_) {
+      const int count = static_cast<int>(strips.size());
+#pragma omp parallel for schedule(dynamic, 1) if (use_threads(points_.size()))
+      for (int k = 0; k < count; ++k)
+        for (int b = strip_start_[strips[k]]; b < strip_start_[strips[k] + 1]; ++b)
+          f(order_.data() + bucket_start_[b], order_.data() + bucket_start_[b + 1]);
     }
   }
 
@@ -275,7 +297,8 @@ class Assembler {
   const DofMap& dofs_;
   std::vector<int> subset_;  ///< every point, in index order (an uncoloured assembler's runs point into it)
   bool coloured_ = false;
-  std::vector<int> colour_start_, bucket_start_, order_;  ///< colour(): colour -> buckets -> points
+  std::vector<int> strip_start_, bucket_start_, order_;  ///< colour(): strip -> buckets -> points
+  std::array<std::vector<int>, 2> strips_of_parity_;     ///< colour(): the even strips, the odd strips
 };
 
 }  // namespace gradmpm
