@@ -11,7 +11,10 @@
 
 #include <omp.h>
 
+#include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
+
+#include <cmath>
 
 #include "SolverTestUtil.hpp"
 #include "gradmpm/basis/LinearBasis.hpp"
@@ -135,9 +138,46 @@ TEST(LinearSolver, EverySolverAgreesOnAnSpdSystemAndReusesItsAnalysis) {
   }
 }
 
+// gradmpm calls CHOLMOD's supernodal factorisation directly on tril(P A P'), formed once
+// per analysis with each entry's source in A (solver/linear/Cholmod.cpp), where
+// cholmod_factorize transposes A at every call. Same matrix, same factor: the solutions
+// equal cholmod_factorize's (through Eigen's wrapper) bit for bit, after new values
+// with the same pattern too (the gather refilled), and from a matrix given uncompressed.
+TEST(LinearSolver, CholmodGivesCholmodFactorizesAnswerBitForBit) {
+  SparseMatrix A = test::laplacian_2d(30);
+  for (int k = 0; k < A.outerSize(); ++k)  // unequal values, still symmetric
+    for (SparseMatrix::InnerIterator it(A, k); it; ++it)
+      it.valueRef() *= 1.0 + 0.1 * std::sin(double(it.row() + it.col()));
+  const Vector b = Vector::LinSpaced(A.rows(), -1.0, 2.0);
+  const auto ours = make_linear_solver(named("cholmod"));
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Upper> reference;
+  for (const double scale : {1.0, 2.5}) {
+    const SparseMatrix As = A * scale;
+    if (scale == 1.0) {
+      ours->compute(As);
+      reference.compute(As);
+    } else {
+      ours->factorize(As);
+      reference.factorize(As);
+    }
+    ASSERT_EQ(reference.info(), Eigen::Success);
+    const Vector x = ours->solve(b), y = reference.solve(b);
+    EXPECT_EQ((x - y).lpNorm<Eigen::Infinity>(), 0.0) << "scale " << scale;
+    EXPECT_LT((As * x - b).norm(), 1e-12 * b.norm());
+  }
+  SparseMatrix uncompressed = A;
+  uncompressed.uncompress();
+  ASSERT_FALSE(uncompressed.isCompressed());
+  const auto fresh = make_linear_solver(named("cholmod"));
+  fresh->compute(uncompressed);
+  reference.compute(A);
+  EXPECT_EQ((fresh->solve(b) - reference.solve(b)).lpNorm<Eigen::Infinity>(), 0.0);
+}
+
 TEST(LinearSolver, NonSymmetricMatrixIsSolvedByAGeneralSolverNeverSymmetrised) {
-  // Strongly non-symmetric: the sub- and super-diagonals differ.
-  const SparseMatrix A = tridiagonal(100, -0.2, -1.5);
+  // Strongly non-symmetric: the sub- and super-diagonals differ (either triangle,
+  // symmetrised, is positive definite: a symmetric solver would not notice).
+  const SparseMatrix A = tridiagonal(100, -0.2, -0.9);
   const Vector b = Vector::LinSpaced(100, 0.5, 2.0);
   for (const char* name : {"umfpack", "eigen-lu"}) {
     const auto s = make_linear_solver(named(name), MatrixKind::General);

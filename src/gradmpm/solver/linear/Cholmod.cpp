@@ -1,8 +1,21 @@
 // CHOLMOD (SuiteSparse) supernodal Cholesky: the default solver of symmetric positive
-// definite systems. Reads the lower triangle.
+// definite systems. Reads the upper triangle of the whole symmetric matrix every caller
+// stores.
+//
+// CHOLMOD is called directly, not through Eigen's wrapper, for one reason: its
+// supernodal factorisation (cholmod_super_numeric) wants S = tril(P A P') and
+// cholmod_factorize forms S anew at every call, by one permuted transpose of an upper
+// triangle or two of a lower one (Eigen passes the lower): a count pass and a fill pass
+// over the matrix each. The pattern, and with it S's, is fixed from one analysis to the
+// next, so the analysis here forms S once with the source position of each of its
+// entries in A's value array, and each factorisation fills S's values by that list (one
+// gather) and calls cholmod_super_numeric, which is what cholmod_factorize calls after
+// its transposes (Eigen's settings: supernodal, the factor kept as computed).
+#include <cholmod.h>
 #include <dlfcn.h>
 #include <omp.h>
-#include <Eigen/CholmodSupport>
+
+#include <numeric>
 
 #include "gradmpm/solver/linear/EigenSolver.hpp"
 #include "gradmpm/solver/linear/SerialOpenMpRegions.hpp"
@@ -57,28 +70,136 @@ class CholmodThreadCap {
   SerialOpenMpRegions serial_regions_;
 };
 
-using Decomposition = Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>;
+/// cholmod_sparse views of A's upper triangle (CHOLMOD reads, never writes, through it).
+cholmod_sparse upper_view(const SparseMatrix& A, double* values) {
+  cholmod_sparse v{};
+  v.nrow = v.ncol = static_cast<std::size_t>(A.rows());
+  v.nzmax = static_cast<std::size_t>(A.nonZeros());
+  v.p = const_cast<int*>(A.outerIndexPtr());
+  v.i = const_cast<int*>(A.innerIndexPtr());
+  v.x = values;
+  v.stype = 1;
+  v.itype = CHOLMOD_INT;
+  v.xtype = CHOLMOD_REAL;
+  v.dtype = CHOLMOD_DOUBLE;
+  v.sorted = 1;
+  v.packed = 1;
+  return v;
+}
 
-struct CholmodTraits {
-  static constexpr const char* name = "cholmod";
-  static constexpr bool general = false, keeps_reference = false;
-  using Guard = CholmodThreadCap;
-  static void configure(Decomposition& d) {
+cholmod_dense dense_view(const double* x, Eigen::Index rows, Eigen::Index cols) {
+  cholmod_dense d{};
+  d.nrow = d.d = static_cast<std::size_t>(rows);
+  d.ncol = static_cast<std::size_t>(cols);
+  d.nzmax = d.nrow * d.ncol;
+  d.x = const_cast<double*>(x);
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
+class CholmodSolver final : public LinearSolver {
+ public:
+  CholmodSolver() {
+    cholmod_start(&c_);
     // Failures are reported through SolverError; CHOLMOD's own printing would only
     // duplicate them on stderr.
-    d.cholmod().print = 0;
-    d.cholmod().error_handler = nullptr;
+    c_.print = 0;
+    c_.error_handler = nullptr;
+    c_.supernodal = CHOLMOD_SUPERNODAL;
+    c_.final_asis = 1;
   }
-  static std::string failure(const Decomposition& d) { return d.info() == Eigen::Success ? "" : kNotPositiveDefinite; }
+  ~CholmodSolver() override {
+    release();
+    cholmod_finish(&c_);
+  }
+  CholmodSolver(const CholmodSolver&) = delete;
+  CholmodSolver& operator=(const CholmodSolver&) = delete;
+  std::string name() const override { return "cholmod"; }
+  bool general() const override { return false; }
+
+ protected:
+  void do_analyze(const SparseMatrix& given) override {
+    const SparseMatrix& A = compressed(given);
+    CholmodThreadCap guard;
+    release();
+    cholmod_sparse view = upper_view(A, const_cast<double*>(A.valuePtr()));
+    L_ = cholmod_analyze(&view, &c_);
+    if (!L_) throw SolverError(failure("symbolic analysis"));
+    // S = tril(P A P') with each entry's value the entry's position in A's values (exact
+    // in a double up to 2^53): the same transpose cholmod_factorize would make.
+    std::vector<double> position(static_cast<std::size_t>(A.nonZeros()));
+    std::iota(position.begin(), position.end(), 0.0);
+    view.x = position.data();
+    S_ = cholmod_ptranspose(&view, 2, static_cast<int*>(L_->Perm), nullptr, 0, &c_);
+    if (!S_) throw SolverError(failure("permuting the matrix"));
+    const int* Sp = static_cast<const int*>(S_->p);
+    const double* Sx = static_cast<const double*>(S_->x);
+    source_.resize(static_cast<std::size_t>(Sp[S_->ncol]));
+    for (std::size_t k = 0; k < source_.size(); ++k) source_[k] = static_cast<int>(Sx[k]);
+    rows_ = A.rows();
+    nonzeros_ = A.nonZeros();
+  }
+
+  void do_factorize(const SparseMatrix& given) override {
+    const SparseMatrix& A = compressed(given);
+    if (A.rows() != rows_ || A.nonZeros() != nonzeros_)
+      throw SolverError("cholmod: factorize given a matrix of another pattern than the one analysed");
+    CholmodThreadCap guard;
+    const double* a = A.valuePtr();
+    double* Sx = static_cast<double*>(S_->x);
+    for (std::size_t k = 0; k < source_.size(); ++k) Sx[k] = a[source_[k]];
+    double zero[2] = {0.0, 0.0};
+    cholmod_super_numeric(S_, nullptr, zero, L_, &c_);
+    if (c_.status < CHOLMOD_OK) throw SolverError(failure("numeric factorisation"));
+    if (L_->minor < L_->n) throw SolverError(std::string("sparse factorisation (cholmod) failed: ") + kNotPositiveDefinite);
+  }
+
+  Vector do_solve(const Vector& b) const override { return solve_dense(b.data(), b.rows(), 1); }
+  Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override { return solve_dense(B.data(), B.rows(), B.cols()); }
+
+ private:
+  Eigen::MatrixXd solve_dense(const double* b, Eigen::Index rows, Eigen::Index cols) const {
+    CholmodThreadCap guard;
+    cholmod_dense B = dense_view(b, rows, cols);
+    cholmod_dense* X = cholmod_solve(CHOLMOD_A, L_, &B, &c_);
+    if (!X) throw SolverError(failure("solve"));
+    Eigen::MatrixXd out = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(X->x), rows, cols);
+    cholmod_free_dense(&X, &c_);
+    return out;
+  }
+
+  std::string failure(const char* what) const {
+    return std::string("cholmod: ") + what + " failed (CHOLMOD status " + std::to_string(c_.status) +
+           (c_.status == CHOLMOD_OUT_OF_MEMORY ? ", out of memory)" : ")");
+  }
+
+  /// A itself, or (a matrix with room left in its columns) a compressed copy.
+  const SparseMatrix& compressed(const SparseMatrix& A) {
+    if (A.isCompressed()) return A;
+    copy_ = A;
+    copy_.makeCompressed();
+    return copy_;
+  }
+
+  void release() {
+    if (S_) cholmod_free_sparse(&S_, &c_);
+    if (L_) cholmod_free_factor(&L_, &c_);
+  }
+
+  mutable cholmod_common c_;  ///< CHOLMOD's settings, statistics and workspace (a solve uses it too)
+  cholmod_factor* L_ = nullptr;
+  cholmod_sparse* S_ = nullptr;  ///< tril(P A P'): its pattern from the analysis, its values from A
+  std::vector<int> source_;      ///< S_'s k-th value is A's value source_[k]
+  Eigen::Index rows_ = 0, nonzeros_ = 0;
+  SparseMatrix copy_;  ///< compressed(): an uncompressed matrix's compressed copy
 };
 
 }  // namespace
 
 LinearSolverInfo cholmod_solver_info() {
-  return {CholmodTraits::name, "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite)", false,
-          [](const LinearSolverSettings&, MatrixKind) {
-            return std::make_unique<EigenSolver<Decomposition, CholmodTraits>>();
-          }};
+  return {"cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite)", false,
+          [](const LinearSolverSettings&, MatrixKind) { return std::make_unique<CholmodSolver>(); }};
 }
 
 }  // namespace gradmpm

@@ -48,7 +48,9 @@ class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   virtual std::string name() const = 0;
-  /// true: solves any square matrix (reads both triangles); false: symmetric only.
+  /// true: solves any square matrix (reads both triangles); false: symmetric only. Either
+  /// way the matrix is passed whole: a symmetric solver reads whichever triangle it
+  /// factorises fastest (CHOLMOD the upper, Eigen's LDLT the lower).
   virtual bool general() const = 0;
   /// Called before analyze() by callers that know more about the system (the Newton
   /// driver: block size dim and the active nodes' coordinates). Default: ignored.
