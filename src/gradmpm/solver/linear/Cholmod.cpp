@@ -128,9 +128,11 @@ class CholmodSolver final : public LinearSolver {
     if (!L_) throw SolverError(failure("symbolic analysis"));
     // S = tril(P A P') with each entry's value the entry's position in A's values (exact
     // in a double up to 2^53): the same transpose cholmod_factorize would make.
-    std::vector<double> position(static_cast<std::size_t>(A.nonZeros()));
-    std::iota(position.begin(), position.end(), 0.0);
-    view.x = position.data();
+    if (position_.size() != static_cast<std::size_t>(A.nonZeros())) {
+      position_.resize(static_cast<std::size_t>(A.nonZeros()));
+      std::iota(position_.begin(), position_.end(), 0.0);
+    }
+    view.x = position_.data();
     S_ = cholmod_ptranspose(&view, 2, static_cast<int*>(L_->Perm), nullptr, 0, &c_);
     if (!S_) throw SolverError(failure("permuting the matrix"));
     const int* Sp = static_cast<const int*>(S_->p);
@@ -190,6 +192,7 @@ class CholmodSolver final : public LinearSolver {
   mutable cholmod_common c_;  ///< CHOLMOD's settings, statistics and workspace (a solve uses it too)
   cholmod_factor* L_ = nullptr;
   cholmod_sparse* S_ = nullptr;  ///< tril(P A P'): its pattern from the analysis, its values from A
+  std::vector<double> position_;  ///< 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
   std::vector<int> source_;      ///< S_'s k-th value is A's value source_[k]
   Eigen::Index rows_ = 0, nonzeros_ = 0;
   SparseMatrix copy_;  ///< compressed(): an uncompressed matrix's compressed copy
