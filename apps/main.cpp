@@ -25,10 +25,9 @@
 #include "gradmpm/core/LoadTimeEnvironment.hpp"
 #include "gradmpm/core/Ranks.hpp"
 
-
 int main(int argc, char** argv) {
-  // OpenMP waiting passively and malloc on huge pages: read when the program loads, so
-  // set by executing once more (core/LoadTimeEnvironment.hpp).
+  // OpenMP waiting passively, malloc on huge pages keeping freed memory: read when the
+  // program loads, so set by executing once more (core/LoadTimeEnvironment.hpp).
   gradmpm::set_load_time_environment(argv);
   CLI::App app{
       "gradmpm: implicit quasi-static Material Point Method with Ru-Aifantis gradient elasticity.\n"

@@ -187,8 +187,8 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
 }  // namespace
 
 int main(int argc, char** argv) {
-  // malloc on huge pages, as gradmpm runs (core/LoadTimeEnvironment.hpp); OpenMP's waiting
-  // is left as the environment says (the figures of docs/performance.md were so measured).
+  // malloc on huge pages keeping freed memory, as gradmpm runs (core/LoadTimeEnvironment.hpp);
+  // OpenMP's waiting is left as the environment says (the figures of docs/performance.md were so measured).
   LoadTimeChoices load_time;
   load_time.passive_openmp = false;
   set_load_time_environment(argv, load_time);
@@ -233,9 +233,11 @@ int main(int argc, char** argv) {
          "mib,nonlocal_s,staggers,solver,krylov_its,wall_s,ranks\n";
   if (ranks::rank() == 0) {
     const std::string hugetlb = malloc_hugetlb();
-    fmt::print("bench_mpm: {} rank(s), {} thread(s) each, {} sweep, glibc.malloc.hugetlb={}; seconds per Newton "
-               "iteration\n",
-               ranks::size(), threads, quick ? "quick" : "full", hugetlb.empty() ? "0" : hugetlb);
+    fmt::print(
+        "bench_mpm: {} rank(s), {} thread(s) each, {} sweep, glibc.malloc.hugetlb={}, freed memory {}; seconds "
+        "per Newton iteration\n",
+        ranks::size(), threads, quick ? "quick" : "full", hugetlb.empty() ? "0" : hugetlb,
+        malloc_keeps_freed_memory() ? "kept" : "returned");
   }
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};

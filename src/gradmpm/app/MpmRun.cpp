@@ -313,13 +313,15 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const std::string hugetlb = malloc_hugetlb();
   if (!quiet)
     fmt::print(
-        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}), {}{}\n",
+        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}), "
+        "{}, {}{}\n",
         dim, static_cast<long long>(points_in_all), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
         ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"),
         hugetlb.empty() || hugetlb == "0" ? std::string("no huge pages")
                                           : fmt::format("huge pages (glibc.malloc.hugetlb={})", hugetlb),
+        malloc_keeps_freed_memory() ? "freed memory kept (glibc.malloc.mmap_max=0)" : "freed memory returned",
         partition);
   // Everything the outputs accumulate from step to step, for a checkpoint.
   auto save_outputs = [&](Archive& a) {

@@ -154,11 +154,14 @@ class CholmodSolver final : public LinearSolver {
     double zero[2] = {0.0, 0.0};
     cholmod_super_numeric(S_, nullptr, zero, L_, &c_);
     if (c_.status < CHOLMOD_OK) throw SolverError(failure("numeric factorisation"));
-    if (L_->minor < L_->n) throw SolverError(std::string("sparse factorisation (cholmod) failed: ") + kNotPositiveDefinite);
+    if (L_->minor < L_->n)
+      throw SolverError(std::string("sparse factorisation (cholmod) failed: ") + kNotPositiveDefinite);
   }
 
   Vector do_solve(const Vector& b) const override { return solve_dense(b.data(), b.rows(), 1); }
-  Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override { return solve_dense(B.data(), B.rows(), B.cols()); }
+  Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override {
+    return solve_dense(B.data(), B.rows(), B.cols());
+  }
 
  private:
   Eigen::MatrixXd solve_dense(const double* b, Eigen::Index rows, Eigen::Index cols) const {
@@ -192,8 +195,9 @@ class CholmodSolver final : public LinearSolver {
   mutable cholmod_common c_;  ///< CHOLMOD's settings, statistics and workspace (a solve uses it too)
   cholmod_factor* L_ = nullptr;
   cholmod_sparse* S_ = nullptr;  ///< tril(P A P'): its pattern from the analysis, its values from A
-  std::vector<double> position_;  ///< 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
-  std::vector<int> source_;      ///< S_'s k-th value is A's value source_[k]
+  std::vector<double>
+      position_;  ///< 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
+  std::vector<int> source_;  ///< S_'s k-th value is A's value source_[k]
   Eigen::Index rows_ = 0, nonzeros_ = 0;
   SparseMatrix copy_;  ///< compressed(): an uncompressed matrix's compressed copy
 };
