@@ -1,6 +1,6 @@
 #pragma once
-// When point loops run on OpenMP threads. Waking a team and crossing the colour
-// barriers of a coloured scatter (3^dim per matrix) costs microseconds on an idle
+// When point loops run on OpenMP threads. Waking a team and crossing the barriers of a
+// scatter by strips (two per matrix: even strips, then odd) costs microseconds on an idle
 // machine, but up to a scheduler time slice each when several processes share the
 // cores: two test programs with 2 threads each on 2 cores took 100 s instead of 2.5 s
 // (docs/performance.md). Loops over fewer points than this run serially; their results

@@ -204,7 +204,7 @@ class LoadStep {
   }
 
   /// The tangent K at the state of the last internal_force(): each point's material
-  /// tangent is formed inside the (coloured, threaded) scatter-add, never stored. With a
+  /// tangent is formed inside the (threaded, by strips) scatter-add, never stored. With a
   /// symmetric tangent (A_ijkl = A_klij) only the blocks b <= a are formed and mirrored.
   /// In a distributed run K is this rank's share (`share` must be true), which the solver
   /// adds up: its points' terms and their contacts, and its ghost faces'.

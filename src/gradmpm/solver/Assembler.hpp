@@ -19,14 +19,14 @@ class Assembler {
   /// Local matrix of one point: (count*ncomp)^2, stack storage only.
   using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, max_local, max_local>;
 
-  /// With the grid, points are coloured for race-free threaded assembly (below); without
+  /// With the grid, points are put in strips for race-free threaded assembly (below); without
   /// it the scatter-add is serial. (A distributed run's assembler is given its rank's
   /// points, mpm/RankPoints.hpp.)
   Assembler(const PointStencils<dim>& stencils, const MaterialPoints<dim>& points, const DofMap& dofs,
             const Grid<dim>* grid = nullptr)
       : st_(stencils), points_(points), dofs_(dofs), subset_(points.size()) {
     for (int p = 0; p < points.size(); ++p) subset_[p] = p;
-    if (grid) colour(*grid);
+    if (grid) build_strips(*grid);
   }
 
   const DofMap& dofs() const { return dofs_; }
@@ -44,7 +44,7 @@ class Assembler {
   /// identical bit for bit.
   template <class F>
   void for_each_point_disjoint(F&& f) const {
-    if (!coloured_) {
+    if (!in_strips_) {
       for (int p : subset_) f(p);
       return;
     }
@@ -65,7 +65,7 @@ class Assembler {
         p = q;
       }
     };
-    if (!coloured_) {
+    if (!in_strips_) {
       runs(subset_.data(), subset_.data() + subset_.size());
       return;
     }
@@ -74,7 +74,7 @@ class Assembler {
 
   /// A += sum_p K_p, where kernel(p, stencil, Ke) adds the local matrix of point p into Ke
   /// (local index a*ncomp + comp). A must hold the pattern of build_pattern().
-  /// Consecutive points of a bucket with the same stencil nodes (colour() sorts them so)
+  /// Consecutive points of a bucket with the same stencil nodes (build_strips() sorts them so)
   /// share one Ke: their sum is scattered once. The scatter's searches of the pattern,
   /// not the local products, were most of the assembly (perf, column_2d at 1e5 dof), and
   /// with 2 points per cell and direction about 2^dim points share each stencil.
@@ -218,7 +218,7 @@ class Assembler {
   /// strip_start_[s] .. strip_start_[s + 1]), the strips of parity q are listed in
   /// strips_of_parity_[q] (one allocation each, not one per bucket). Empty strips and
   /// buckets are not stored.
-  void colour(const Grid<dim>& grid) {
+  void build_strips(const Grid<dim>& grid) {
     const int np = static_cast<int>(subset_.size()), nn = grid.num_nodes();
     std::vector<int> anchor_of(np);  // of subset_[k], by k
 #pragma omp parallel for schedule(static) if (use_threads(np))
@@ -242,14 +242,13 @@ class Assembler {
       for (int k = 0; k < np; ++k) order_[next[anchor_of[k]]++] = subset_[k];
     }
     // Non-empty buckets, and the strips they fall in (node order is strip order).
-    const int row_nodes = nn / (grid.cells()[dim - 1] + 1);  // nodes per index of the outermost direction
     bucket_start_.clear();
     strip_start_.clear();
     for (auto& list : strips_of_parity_) list.clear();
     int last_strip = -1;
     for (int n = 0; n < nn; ++n) {
       if (first[n] == first[n + 1]) continue;
-      const int strip = n / row_nodes / kStripWidth;
+      const int strip = grid.node_ijk(n)[dim - 1] / kStripWidth;
       if (strip != last_strip) {
         strips_of_parity_[strip % 2].push_back(static_cast<int>(strip_start_.size()));
         strip_start_.push_back(static_cast<int>(bucket_start_.size()));
@@ -269,7 +268,7 @@ class Assembler {
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int b = 0; b < nb; ++b)
       std::stable_sort(order_.begin() + bucket_start_[b], order_.begin() + bucket_start_[b + 1], before);
-    coloured_ = true;
+    in_strips_ = true;
   }
 
   static bool same_nodes(const Stencil<dim>& s, const Stencil<dim>& t) {
@@ -295,10 +294,10 @@ class Assembler {
   const PointStencils<dim>& st_;
   const MaterialPoints<dim>& points_;
   const DofMap& dofs_;
-  std::vector<int> subset_;  ///< every point, in index order (an uncoloured assembler's runs point into it)
-  bool coloured_ = false;
-  std::vector<int> strip_start_, bucket_start_, order_;  ///< colour(): strip -> buckets -> points
-  std::array<std::vector<int>, 2> strips_of_parity_;     ///< colour(): the even strips, the odd strips
+  std::vector<int> subset_;  ///< every point, in index order (an assembler without strips runs over it)
+  bool in_strips_ = false;
+  std::vector<int> strip_start_, bucket_start_, order_;  ///< build_strips(): strip -> buckets -> points
+  std::array<std::vector<int>, 2> strips_of_parity_;     ///< build_strips(): the even strips, the odd strips
 };
 
 }  // namespace gradmpm

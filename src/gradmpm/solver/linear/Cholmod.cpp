@@ -139,13 +139,12 @@ class CholmodSolver final : public LinearSolver {
     const double* Sx = static_cast<const double*>(S_->x);
     source_.resize(static_cast<std::size_t>(Sp[S_->ncol]));
     for (std::size_t k = 0; k < source_.size(); ++k) source_[k] = static_cast<int>(Sx[k]);
-    rows_ = A.rows();
     nonzeros_ = A.nonZeros();
   }
 
   void do_factorize(const SparseMatrix& given) override {
     const SparseMatrix& A = compressed(given);
-    if (A.rows() != rows_ || A.nonZeros() != nonzeros_)
+    if (static_cast<std::size_t>(A.rows()) != L_->n || A.nonZeros() != nonzeros_)
       throw SolverError("cholmod: factorize given a matrix of another pattern than the one analysed");
     CholmodThreadCap guard;
     const double* a = A.valuePtr();
@@ -195,11 +194,11 @@ class CholmodSolver final : public LinearSolver {
   mutable cholmod_common c_;  ///< CHOLMOD's settings, statistics and workspace (a solve uses it too)
   cholmod_factor* L_ = nullptr;
   cholmod_sparse* S_ = nullptr;  ///< tril(P A P'): its pattern from the analysis, its values from A
-  std::vector<double>
-      position_;  ///< 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
-  std::vector<int> source_;  ///< S_'s k-th value is A's value source_[k]
-  Eigen::Index rows_ = 0, nonzeros_ = 0;
-  SparseMatrix copy_;  ///< compressed(): an uncompressed matrix's compressed copy
+  /// 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
+  std::vector<double> position_;
+  std::vector<int> source_;    ///< S_'s k-th value is A's value source_[k]
+  Eigen::Index nonzeros_ = 0;  ///< A's entries at the analysis (its size is L_->n)
+  SparseMatrix copy_;          ///< compressed(): an uncompressed matrix's compressed copy
 };
 
 }  // namespace
