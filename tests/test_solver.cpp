@@ -4,9 +4,11 @@
 // what it claims to: the SPD ones agree and refuse an indefinite matrix, the general ones
 // solve a non-symmetric system without symmetrising it, a symmetric-only choice hands
 // non-symmetric matrices to linear_solver.general, and a solver defined only in this
-// test joins the registry with one call (recipe "add a linear solver"), and CHOLMOD
-// leaves the caller's OpenMP settings as they were and runs its serial OpenMP regions as
-// plain calls (SerialOpenMpRegions), which changes no other region.
+// test joins the registry with one call (recipe "add a linear solver"), CHOLMOD takes
+// another solver's ordering when told (order_like) and spends less on the ordering of a
+// system factorised once, and CHOLMOD leaves the caller's OpenMP settings as they were
+// and runs its serial OpenMP regions as plain calls (SerialOpenMpRegions), which changes
+// no other region.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -172,6 +174,104 @@ TEST(LinearSolver, CholmodGivesCholmodFactorizesAnswerBitForBit) {
   fresh->compute(uncompressed);
   reference.compute(A);
   EXPECT_EQ((fresh->solve(b) - reference.solve(b)).lpNorm<Eigen::Infinity>(), 0.0);
+}
+
+// The gradient step's smoothers of one pattern share one ordering (LinearSolver::
+// order_like, MpmGradient.cpp): a CHOLMOD solver told to take another's ordering analyses
+// with it. On the same pattern with other values it gives the answer of its own analysis
+// bit for bit (the same ordering); on another pattern it still solves, with the fill of
+// the ordering it was given: a star whose hub comes early fills in, where its own
+// ordering (the hub last) would not.
+TEST(LinearSolver, CholmodTakesAnotherSolversOrdering) {
+  const SparseMatrix A = test::laplacian_2d(30);
+  SparseMatrix B = A;  // other values, one pattern
+  for (int k = 0; k < B.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(B, k); it; ++it)
+      it.valueRef() *= 1.0 + 0.1 * std::sin(double(it.row() + it.col()));
+  const Vector b = Vector::LinSpaced(A.rows(), -1.0, 2.0);
+  const auto first = make_linear_solver(named("cholmod")), taken = make_linear_solver(named("cholmod")),
+             own = make_linear_solver(named("cholmod"));
+  EXPECT_FALSE(taken->order_like(*first)) << "nothing analysed yet: nothing to take";
+  first->compute(A);
+  ASSERT_TRUE(taken->order_like(*first));
+  taken->compute(B);
+  own->compute(B);
+  EXPECT_EQ((taken->solve(b) - own->solve(b)).lpNorm<Eigen::Infinity>(), 0.0);
+  EXPECT_EQ(taken->factor_nonzeros(), own->factor_nonzeros());
+  EXPECT_GT(own->factor_nonzeros(), A.nonZeros() / 2);
+  EXPECT_FALSE(make_linear_solver(named("pcg"))->order_like(*first)) << "an iterative solver has no ordering";
+
+  // A star of n nodes around `hub` (diagonally dominant), and with `pairs` the other
+  // nodes from 2 on joined in pairs: node 1, the only one of least degree, is then
+  // ordered first.
+  const int n = 60;
+  const auto star = [n](int hub, bool pairs) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) t.emplace_back(i, i, i == hub ? n + 1.0 : 4.0);
+    for (int i = 0; i < n; ++i)
+      if (i != hub) t.emplace_back(i, hub, -1.0), t.emplace_back(hub, i, -1.0);
+    for (int i = 2; pairs && i + 1 < n; i += 2)
+      if (i != hub && i + 1 != hub) t.emplace_back(i, i + 1, -1.0), t.emplace_back(i + 1, i, -1.0);
+    SparseMatrix S(n, n);
+    S.setFromTriplets(t.begin(), t.end());
+    return S;
+  };
+  const SparseMatrix S0 = star(0, true), S1 = star(1, false);
+  const Vector c = Vector::LinSpaced(n, 1.0, 3.0);
+  const auto order = make_linear_solver(named("cholmod")), given = make_linear_solver(named("cholmod")),
+             fresh = make_linear_solver(named("cholmod"));
+  order->compute(S0);
+  ASSERT_TRUE(given->order_like(*order));
+  given->compute(S1);
+  fresh->compute(S1);
+  EXPECT_EQ(fresh->factor_nonzeros(), 2 * n - 1) << "its own ordering: the hub last, no fill";
+  EXPECT_GT(given->factor_nonzeros(), n * (n - 1) / 4) << "the ordering given: the hub early, filled in";
+  EXPECT_LT((S1 * given->solve(c) - c).norm(), 1e-12 * c.norm());
+}
+
+// A system factorised once per analysis (SystemDescription::factorized_once: the gradient
+// step's Helmholtz systems) is ordered by AMD alone unless AMD's factor is costly enough
+// for METIS to pay within a few factorisations (kMetisFlopsPerEntry, 6000 flops per entry
+// of A): CHOLMOD's default tries METIS whenever AMD's factor is costly for a factor
+// reused many times (at 5e5 nodes in 2D METIS took 3.1 s to save 0.25 s of each
+// factorisation). 27-point 3D Laplacians on which CHOLMOD keeps METIS's ordering: of
+// 20^3 unknowns (AMD: 5.7e3 flops per entry), told factorised once, the solver has AMD's
+// larger fill; of 24^3 (AMD: 1.0e4), METIS's, as by default. Every one solves.
+TEST(LinearSolver, CholmodOrdersASystemFactorisedOnceByMetisOnlyWhereAmdIsCostly) {
+  const auto laplacian_27 = [](int m) {
+    std::vector<Eigen::Triplet<double>> t;
+    const auto id = [m](int i, int j, int k) { return (k * m + j) * m + i; };
+    for (int k = 0; k < m; ++k)
+      for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i) {
+          t.emplace_back(id(i, j, k), id(i, j, k), 6.0);
+          for (int c = -1; c <= 1; ++c)
+            for (int b = -1; b <= 1; ++b)
+              for (int a = -1; a <= 1; ++a) {
+                const int x = i + a, y = j + b, z = k + c;
+                if ((a || b || c) && x >= 0 && y >= 0 && z >= 0 && x < m && y < m && z < m)
+                  t.emplace_back(id(i, j, k), id(x, y, z), -0.2);
+              }
+        }
+    SparseMatrix A(m * m * m, m * m * m);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+  };
+  SystemDescription system;
+  system.factorized_once = true;
+  for (const int m : {20, 24}) {
+    const SparseMatrix A = laplacian_27(m);
+    const Vector b = Vector::LinSpaced(A.rows(), -1.0, 2.0);
+    const auto usual = make_linear_solver(named("cholmod")), once = make_linear_solver(named("cholmod"));
+    once->describe(system);
+    usual->compute(A);
+    once->compute(A);
+    if (m == 20)
+      EXPECT_GT(once->factor_nonzeros(), 1.3 * usual->factor_nonzeros()) << "AMD's fill, not METIS's";
+    else
+      EXPECT_EQ(once->factor_nonzeros(), usual->factor_nonzeros()) << "METIS's fill, as by default";
+    for (const auto* s : {usual.get(), once.get()}) EXPECT_LT((A * s->solve(b) - b).norm(), 1e-12 * b.norm()) << m;
+  }
 }
 
 TEST(LinearSolver, NonSymmetricMatrixIsSolvedByAGeneralSolverNeverSymmetrised) {

@@ -30,9 +30,11 @@ class HelmholtzSmoother {
   /// the smoothed fields are right in those rows (all that its points' stencils read);
   /// a rank's `dirichlet_dofs` are those of its own and ghost rows (it may hold none
   /// where another rank holds some: whether the system has any is decided over the ranks).
+  /// `ordered_like`: the solver of a smoother on the same pattern, whose ordering this
+  /// one's analysis takes (LinearSolver::order_like; null: its own).
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
                     const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {},
-                    bool shares = false)
+                    bool shares = false, const LinearSolver* ordered_like = nullptr)
       : assembler_(assembler),
         solver_(make_linear_solver(solver)),
         halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern), assembler.dofs().global_rows()) : RowHalo()),
@@ -42,7 +44,14 @@ class HelmholtzSmoother {
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
     if (held_) dirichlet_.apply_to_matrix(A, dirichlet_dofs, &halo_);
-    if (shares) solver_->describe(SystemDescription{1, nullptr, true, &halo_});
+    SystemDescription system;  // scalar, factorised once
+    system.factorized_once = true;
+    if (shares) {
+      system.shares = true;
+      system.halo = &halo_;
+    }
+    solver_->describe(system);
+    if (ordered_like) solver_->order_like(*ordered_like);
     solver_->compute(A);
   }
   // The solver and the Dirichlet elimination keep the halo's address.
@@ -65,6 +74,8 @@ class HelmholtzSmoother {
 
   /// Seconds its sparse solver has taken in factorisation and solves (not the analysis).
   double solver_seconds() const { return solver_->seconds(); }
+  /// Its sparse solver (its ordering, its timings).
+  const LinearSolver& solver() const { return *solver_; }
 
   /// Smooths a nodal field (u-RA: a displacement component): f_i = sum_p N_i c(x_p) V_p,
   /// which is M c with M integrated by the points.

@@ -98,6 +98,14 @@ cholmod_dense dense_view(const double* x, Eigen::Index rows, Eigen::Index cols) 
   return d;
 }
 
+/// A system factorised once is ordered by METIS only where AMD's factor takes this many
+/// flops per entry of A or more. Measured on Helmholtz systems with AMD's ordering
+/// against METIS's (2 cores, OpenBLAS): 5e5 nodes in 2D, 3.0e3 flops per entry: METIS
+/// took 3.1 s to save 0.25 s per factorisation; 1.6e4 nodes in 3D, 1.2e4 flops per
+/// entry: METIS's analysis was paid back within one factorisation (0.45 s of 0.88 saved
+/// over four, for 0.05 s more analysis).
+constexpr double kMetisFlopsPerEntry = 6000.0;
+
 class CholmodSolver final : public LinearSolver {
  public:
   CholmodSolver() {
@@ -117,6 +125,7 @@ class CholmodSolver final : public LinearSolver {
   CholmodSolver& operator=(const CholmodSolver&) = delete;
   std::string name() const override { return "cholmod"; }
   bool general() const override { return false; }
+  void describe(const SystemDescription& d) override { once_ = d.factorized_once; }
 
  protected:
   void do_analyze(const SparseMatrix& given) override {
@@ -124,7 +133,32 @@ class CholmodSolver final : public LinearSolver {
     CholmodThreadCap guard;
     release();
     cholmod_sparse view = upper_view(A, const_cast<double*>(A.valuePtr()));
-    L_ = cholmod_analyze(&view, &c_);
+    // CHOLMOD's default: AMD, then METIS too when AMD's factor is costly (flops >= 500
+    // nnz(L), nnz(L) >= 5 nnz(A)), the one with fewer flops kept: right for the Newton
+    // tangent, factorised at every iteration. Given another solver's ordering
+    // (order_like), only the symbolic factorisation is made.
+    if (given_.size() == static_cast<std::size_t>(A.rows())) {
+      L_ = analyze_by(view, CHOLMOD_GIVEN);
+    } else if (!once_) {
+      L_ = analyze_by(view, -1);
+    } else {
+      // A system factorised once (describe): METIS is tried only where AMD's factor
+      // costs more flops per entry of A than kMetisFlopsPerEntry, where the flops METIS
+      // saves in a factorisation pay for its time (measured, docs/performance.md).
+      L_ = analyze_by(view, CHOLMOD_AMD);
+      if (L_ && flops_ >= kMetisFlopsPerEntry * static_cast<double>(A.nonZeros())) {
+        const double amd_flops = flops_, amd_lnz = lnz_;
+        cholmod_factor* metis = analyze_by(view, CHOLMOD_METIS);
+        if (metis && flops_ < amd_flops) {
+          std::swap(L_, metis);
+        } else {
+          flops_ = amd_flops;
+          lnz_ = amd_lnz;
+        }
+        if (metis) cholmod_free_factor(&metis, &c_);
+      }
+    }
+    given_.clear();
     if (!L_) throw SolverError(failure("symbolic analysis"));
     // S = tril(P A P') with each entry's value the entry's position in A's values (exact
     // in a double up to 2^53): the same transpose cholmod_factorize would make.
@@ -142,6 +176,30 @@ class CholmodSolver final : public LinearSolver {
     nonzeros_ = A.nonZeros();
   }
 
+  /// cholmod_analyze_p with one ordering method (-1: CHOLMOD's default choice); the
+  /// factor's flops and entries in flops_ and lnz_.
+  cholmod_factor* analyze_by(cholmod_sparse& view, int method) {
+    const int methods = c_.nmethods, ordering = c_.method[0].ordering;
+    if (method >= 0) {
+      c_.nmethods = 1;
+      c_.method[0].ordering = method;
+    }
+    cholmod_factor* L = cholmod_analyze_p(&view, method == CHOLMOD_GIVEN ? given_.data() : nullptr, nullptr, 0, &c_);
+    c_.nmethods = methods;
+    c_.method[0].ordering = ordering;
+    flops_ = c_.fl;
+    lnz_ = c_.lnz;
+    return L;
+  }
+
+  bool do_order_like(const LinearSolver& analysed) override {
+    const auto* other = dynamic_cast<const CholmodSolver*>(&analysed);
+    if (!other || !other->L_) return false;
+    const int* perm = static_cast<const int*>(other->L_->Perm);
+    given_.assign(perm, perm + other->L_->n);
+    return true;
+  }
+
   void do_factorize(const SparseMatrix& given) override {
     const SparseMatrix& A = compressed(given);
     if (static_cast<std::size_t>(A.rows()) != L_->n || A.nonZeros() != nonzeros_)
@@ -156,6 +214,8 @@ class CholmodSolver final : public LinearSolver {
     if (L_->minor < L_->n)
       throw SolverError(std::string("sparse factorisation (cholmod) failed: ") + kNotPositiveDefinite);
   }
+
+  double factor_nonzeros() const override { return L_ ? lnz_ : 0.0; }
 
   Vector do_solve(const Vector& b) const override { return solve_dense(b.data(), b.rows(), 1); }
   Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override {
@@ -197,6 +257,10 @@ class CholmodSolver final : public LinearSolver {
   /// 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
   std::vector<double> position_;
   std::vector<int> source_;    ///< S_'s k-th value is A's value source_[k]
+  std::vector<int> given_;     ///< order_like: the ordering the next analysis takes
+  bool once_ = false;          ///< describe: each analysis is factorised once
+  double flops_ = 0.0;         ///< the analysed factor's flops
+  double lnz_ = 0.0;           ///< and entries
   Eigen::Index nonzeros_ = 0;  ///< A's entries at the analysis (its size is L_->n)
   SparseMatrix copy_;          ///< compressed(): an uncompressed matrix's compressed copy
 };

@@ -14,6 +14,12 @@ void LinearSolver::analyze(const SparseMatrix& A) {
   factorized_ = false;
 }
 
+bool LinearSolver::order_like(const LinearSolver& analysed) {
+  if (!analysed.analyzed_ || !do_order_like(analysed)) return false;
+  analyzed_ = factorized_ = false;  // the next factorize analyses with that ordering
+  return true;
+}
+
 void LinearSolver::factorize(const SparseMatrix& A) {
   if (!analyzed_) analyze(A);
   ScopedSeconds timer(seconds_);

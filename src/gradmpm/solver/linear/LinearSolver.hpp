@@ -42,6 +42,11 @@ struct SystemDescription {
   /// a load step's hold its own and ghost rows only). Null: rows split evenly by nodes,
   /// the whole system and solution on every rank.
   const RowHalo* halo = nullptr;
+  /// The caller factorises each analysed pattern once (a Helmholtz system of the gradient
+  /// step), not at every Newton iteration: a direct solver spends on its ordering only
+  /// what a few factorisations win back (CHOLMOD: METIS beside AMD only where AMD's factor
+  /// costs 6000 flops per matrix entry or more).
+  bool factorized_once = false;
 };
 
 class LinearSolver {
@@ -65,6 +70,16 @@ class LinearSolver {
   virtual bool adds_shares() const { return false; }
   /// Krylov iterations so far, over all solves (0 for direct solvers).
   virtual long iterations() const { return 0; }
+  /// Entries of the factor from the last analysis (a direct solver's fill; 0 where not known).
+  virtual double factor_nonzeros() const { return 0.0; }
+
+  /// The next analysis takes `analysed`'s fill-reducing ordering instead of computing one,
+  /// where both are the same kind of direct solver and `analysed` has analysed a matrix of
+  /// this size: for systems of one pattern (the gradient step's smoothers), where the
+  /// ordering (AMD, METIS) is most of an analysis. Any ordering gives the same solution, so
+  /// a matrix of another pattern is still solved (with more fill). Returns whether it will;
+  /// solvers without an ordering (iterative ones) return false and analyse as before.
+  bool order_like(const LinearSolver& analysed);
 
   /// Symbolic analysis (ordering, elimination tree). Call again only if the pattern changes.
   void analyze(const SparseMatrix& A);
@@ -85,6 +100,8 @@ class LinearSolver {
 
  protected:
   virtual void do_analyze(const SparseMatrix& A) = 0;
+  /// Default: no ordering to share.
+  virtual bool do_order_like(const LinearSolver&) { return false; }
   virtual void do_factorize(const SparseMatrix& A) = 0;
   virtual Vector do_solve(const Vector& b) const = 0;
   /// Default: column by column.
