@@ -4,7 +4,9 @@
 // `[output] checkpoint_every = N` makes a run write, after every N-th converged load step,
 // a checkpoint folder DIR.checkpoints/step_NNNNNN beside its output folder DIR:
 //   checkpoint.h5   the whole state (io/Hdf5Archive.hpp): the driver's load factor, next
-//                   increment and counts, the outputs accumulated so far (CSV rows, VTK
+//                   increment and counts, the ordering the next step's analysis takes
+//                   (NewtonSettings::reuse_ordering: without it a restart would order
+//                   afresh and differ in round-off), the outputs accumulated so far (CSV rows, VTK
 //                   series), the case text and the program version, the points' layout
 //                   (layout/: their number, the number of point files, each file's cells);
 //                   and, of a serial run, the points: every array (points/), every state

@@ -150,6 +150,12 @@ struct NewtonSettings {
   /// A direct solver keeps its symbolic analysis for the next load step when that step's
   /// pattern is the same (the answer is the same to the bit; off only to test that).
   bool reuse_analysis = true;
+  /// When the pattern has changed, the analysis takes the previous step's fill-reducing
+  /// ordering, carried through the grid nodes, unless the pattern's entries changed by
+  /// more than 10 % or the fill exceeds by 10 % that of the last ordering computed afresh
+  /// (then it orders afresh): the ordering (AMD, METIS) is most of an analysis. The
+  /// answer is the same to round-off (off only to test that).
+  bool reuse_ordering = true;
   LinearSolverSettings linear_solver;
 };
 
@@ -164,6 +170,7 @@ struct PhaseTimes {
   double nonlocal = 0;  ///< regularised plasticity: the Helmholtz operator and the kappa_bar solves
   int iterations = 0;   ///< Newton iterations (linear solves)
   int analyses = 0;     ///< symbolic analyses (0 in a step whose pattern the previous step had)
+  int orderings = 0;    ///< of which with an ordering computed afresh (the others took the previous step's)
   long krylov = 0;      ///< Krylov iterations of those solves (an iterative linear solver; 0 for a direct one)
   PhaseTimes& operator+=(const PhaseTimes& o) {
     pattern += o.pattern;
@@ -175,6 +182,7 @@ struct PhaseTimes {
     nonlocal += o.nonlocal;
     iterations += o.iterations;
     analyses += o.analyses;
+    orderings += o.orderings;
     krylov += o.krylov;
     return *this;
   }
@@ -192,6 +200,13 @@ struct DriverState {
   double load_factor = 0.0;     ///< lambda reached
   double next_increment = 0.0;  ///< d lambda the next step tries first (0: the nominal one)
   RunSummary summary;           ///< of the steps so far
+  /// The last analysis's ordering by grid node, the fill (entries of the factor per
+  /// entry of the matrix) of the last ordering computed afresh, and the matrix's entries
+  /// at the last analysis: what the next step's analysis starts from
+  /// (NewtonSettings::reuse_ordering; empty for iterative solvers).
+  std::vector<int> ordering;
+  double ordering_fill = 0.0;
+  double ordering_entries = 0.0;
 };
 
 /// What one converged load step did; passed to the observer after every step.

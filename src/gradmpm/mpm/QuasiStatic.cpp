@@ -51,6 +51,43 @@ struct StepSolvers {
     outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
     inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
   }
+
+  /// The last analysis's ordering by grid node: each active node once, where its first
+  /// equation is eliminated (empty for a solver without one). A later step's equations
+  /// are numbered anew (nodes become active or inactive), its nodes are not.
+  std::vector<int> node_order;
+  double fill = 0.0;     ///< entries of L per entry of A, of the last ordering computed afresh
+  double entries = 0.0;  ///< entries of A at the last analysis
+
+  void remember_ordering(const DofMap& dofs, const LinearSolver& solver) {
+    const std::vector<int> perm = solver.ordering();
+    node_order.clear();
+    if (perm.empty()) return;
+    std::vector<char> seen(dofs.num_active_nodes(), 0);
+    for (const int eq : perm) {
+      const int local = eq / dofs.ncomp();
+      if (!seen[local]) node_order.push_back(dofs.node_of(local));
+      seen[local] = 1;
+    }
+  }
+  /// Gives the solver the last ordering in this step's equations: the nodes still active
+  /// in that order, each node's equations together, then the newly active ones.
+  bool take_ordering(const DofMap& dofs, LinearSolver& solver) const {
+    if (node_order.empty()) return false;
+    const int nc = dofs.ncomp();
+    std::vector<char> placed(dofs.num_active_nodes(), 0);
+    std::vector<int> perm;
+    perm.reserve(dofs.num_dofs());
+    const auto place = [&](int local) {
+      if (placed[local]) return;
+      placed[local] = 1;
+      for (int c = 0; c < nc; ++c) perm.push_back(local * nc + c);
+    };
+    for (const int node : node_order)
+      if (node < dofs.num_grid_nodes() && dofs.active(node)) place(dofs.dof(node, 0) / nc);
+    for (int local = 0; local < dofs.num_active_nodes(); ++local) place(local);
+    return solver.order_by(std::move(perm));
+  }
 };
 
 /// Inexact Newton (Eisenstat & Walker 1996, choice 2, with their safeguard): an
@@ -176,9 +213,27 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
       if (!solvers.analysed) {  // the pattern is fixed within the load step
         t0 = Clock::now();
         if (!solvers.analysed_for(K)) {
+          // The previous step's ordering, unless the pattern has grown or shrunk by more
+          // than a tenth (the first step's regular points against moved ones: another
+          // graph), or the factor it gives has more fill than a tenth above the last
+          // fresh ordering's (then the analysis is made again, ordered afresh).
+          const double entries = static_cast<double>(K.nonZeros());
+          bool taken = settings.reuse_ordering && std::abs(entries - solvers.entries) <= 0.1 * solvers.entries &&
+                       solvers.take_ordering(step.dofs(), *solver);
           solver->analyze(K);
-          if (settings.reuse_analysis && !solver->iterative()) solvers.remember_pattern(K);
           ++times.analyses;
+          solvers.entries = entries;
+          if (taken && solver->factor_nonzeros() > 1.1 * solvers.fill * entries) {
+            solver->analyze(K);  // a poor fit (points moved far, material entered new cells): afresh
+            ++times.analyses;
+            taken = false;
+          }
+          if (!taken) {
+            ++times.orderings;
+            solvers.fill = solver->factor_nonzeros() / entries;
+          }
+          if (settings.reuse_ordering) solvers.remember_ordering(step.dofs(), *solver);
+          if (settings.reuse_analysis && !solver->iterative()) solvers.remember_pattern(K);
         }
         times.analysis += seconds_since(t0);
         solvers.analysed = true;
@@ -310,7 +365,10 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   own_rank_points(model, stages);  // a distributed run: each rank its points (mpm/RankPoints.hpp)
   const double nominal = 1.0 / settings.load_steps;
   double lambda = start.load_factor, dlambda = start.next_increment > 0.0 ? start.next_increment : nominal;
-  StepSolvers solvers;  // across the steps: an unchanged pattern keeps its analysis
+  StepSolvers solvers;  // across the steps: an unchanged pattern keeps its analysis, a changed one its ordering
+  solvers.node_order = start.ordering;
+  solvers.fill = start.ordering_fill;
+  solvers.entries = start.ordering_entries;
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
@@ -387,7 +445,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.rigid_forces = [&] { return step->rigid_forces(); };
     summary.total_iterations += info.phases.iterations;
     if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
-    info.after = DriverState{lambda, dlambda, summary};
+    info.after = DriverState{lambda, dlambda, summary, solvers.node_order, solvers.fill, solvers.entries};
     const auto t_stages = Clock::now();
     for (PostStepStage<dim>* stage : stages) stage->after_step(model, info);
     info.stage_seconds = seconds_since(t_stages);

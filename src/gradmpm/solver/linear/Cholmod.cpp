@@ -135,8 +135,8 @@ class CholmodSolver final : public LinearSolver {
     cholmod_sparse view = upper_view(A, const_cast<double*>(A.valuePtr()));
     // CHOLMOD's default: AMD, then METIS too when AMD's factor is costly (flops >= 500
     // nnz(L), nnz(L) >= 5 nnz(A)), the one with fewer flops kept: right for the Newton
-    // tangent, factorised at every iteration. Given another solver's ordering
-    // (order_like), only the symbolic factorisation is made.
+    // tangent, factorised at every iteration. Given an ordering (order_by: another
+    // solver's, the previous load step's), only the symbolic factorisation is made.
     if (given_.size() == static_cast<std::size_t>(A.rows())) {
       L_ = analyze_by(view, CHOLMOD_GIVEN);
     } else if (!once_) {
@@ -192,11 +192,8 @@ class CholmodSolver final : public LinearSolver {
     return L;
   }
 
-  bool do_order_like(const LinearSolver& analysed) override {
-    const auto* other = dynamic_cast<const CholmodSolver*>(&analysed);
-    if (!other || !other->L_) return false;
-    const int* perm = static_cast<const int*>(other->L_->Perm);
-    given_.assign(perm, perm + other->L_->n);
+  bool do_order_by(std::vector<int>& perm) override {
+    given_ = std::move(perm);
     return true;
   }
 
@@ -216,6 +213,11 @@ class CholmodSolver final : public LinearSolver {
   }
 
   double factor_nonzeros() const override { return L_ ? lnz_ : 0.0; }
+  std::vector<int> ordering() const override {
+    if (!L_) return {};
+    const int* perm = static_cast<const int*>(L_->Perm);
+    return std::vector<int>(perm, perm + L_->n);
+  }
 
   Vector do_solve(const Vector& b) const override { return solve_dense(b.data(), b.rows(), 1); }
   Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const override {
@@ -257,7 +259,7 @@ class CholmodSolver final : public LinearSolver {
   /// 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
   std::vector<double> position_;
   std::vector<int> source_;    ///< S_'s k-th value is A's value source_[k]
-  std::vector<int> given_;     ///< order_like: the ordering the next analysis takes
+  std::vector<int> given_;     ///< order_by: the ordering the next analysis takes
   bool once_ = false;          ///< describe: each analysis is factorised once
   double flops_ = 0.0;         ///< the analysed factor's flops
   double lnz_ = 0.0;           ///< and entries

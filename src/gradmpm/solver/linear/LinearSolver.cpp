@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Timer.hpp"
 
@@ -14,8 +16,15 @@ void LinearSolver::analyze(const SparseMatrix& A) {
   factorized_ = false;
 }
 
-bool LinearSolver::order_like(const LinearSolver& analysed) {
-  if (!analysed.analyzed_ || !do_order_like(analysed)) return false;
+bool LinearSolver::order_by(std::vector<int> perm) {
+  if (perm.empty()) return false;
+  std::vector<char> seen(perm.size(), 0);
+  for (const int k : perm) {
+    if (k < 0 || static_cast<std::size_t>(k) >= perm.size() || seen[k])
+      throw std::invalid_argument(name() + ": order_by given something other than a permutation");
+    seen[k] = 1;
+  }
+  if (!do_order_by(perm)) return false;
   analyzed_ = factorized_ = false;  // the next factorize analyses with that ordering
   return true;
 }

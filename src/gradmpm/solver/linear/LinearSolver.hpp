@@ -73,13 +73,18 @@ class LinearSolver {
   /// Entries of the factor from the last analysis (a direct solver's fill; 0 where not known).
   virtual double factor_nonzeros() const { return 0.0; }
 
-  /// The next analysis takes `analysed`'s fill-reducing ordering instead of computing one,
-  /// where both are the same kind of direct solver and `analysed` has analysed a matrix of
-  /// this size: for systems of one pattern (the gradient step's smoothers), where the
-  /// ordering (AMD, METIS) is most of an analysis. Any ordering gives the same solution, so
-  /// a matrix of another pattern is still solved (with more fill). Returns whether it will;
-  /// solvers without an ordering (iterative ones) return false and analyse as before.
-  bool order_like(const LinearSolver& analysed);
+  /// The fill-reducing ordering of the last analysis: the equations in the order they are
+  /// eliminated (empty: none, as for iterative solvers, or not analysed yet).
+  virtual std::vector<int> ordering() const { return {}; }
+  /// The next analysis takes `perm` (a permutation of the next matrix's equations) as its
+  /// ordering instead of computing one (AMD, METIS: most of an analysis), where the
+  /// solver orders at all. Any ordering gives the same solution, to round-off; a poor one
+  /// only costs fill (factor_nonzeros). Returns whether it will (false for an iterative
+  /// solver); a `perm` that is not a permutation is a std::invalid_argument.
+  bool order_by(std::vector<int> perm);
+  /// order_by(analysed.ordering()): systems of one pattern (the gradient step's
+  /// smoothers) share one ordering.
+  bool order_like(const LinearSolver& analysed) { return order_by(analysed.ordering()); }
 
   /// Symbolic analysis (ordering, elimination tree). Call again only if the pattern changes.
   void analyze(const SparseMatrix& A);
@@ -100,8 +105,8 @@ class LinearSolver {
 
  protected:
   virtual void do_analyze(const SparseMatrix& A) = 0;
-  /// Default: no ordering to share.
-  virtual bool do_order_like(const LinearSolver&) { return false; }
+  /// Keeps `perm` (a permutation) for the next analysis; default: no ordering to take.
+  virtual bool do_order_by(std::vector<int>&) { return false; }
   virtual void do_factorize(const SparseMatrix& A) = 0;
   virtual Vector do_solve(const Vector& b) const = 0;
   /// Default: column by column.
