@@ -142,7 +142,8 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
   }
   const auto t0 = Clock::now();
   const double gradient_solver_s =
-      smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver})
+      smooth_total<dim>(m, {GradientVariant::E_RA, 0.5, GradientApply::End, GradientFields::Grid, newton.linear_solver},
+                        step.after.ordering.nodes)
           .solver_seconds;
   const double gradient_s = seconds_since(t0);
   double owned = m.points.size();  // a distributed run's rank holds its own points: the sum is the body's

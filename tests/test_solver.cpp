@@ -5,8 +5,9 @@
 // solve a non-symmetric system without symmetrising it, a symmetric-only choice hands
 // non-symmetric matrices to linear_solver.general, and a solver defined only in this
 // test joins the registry with one call (recipe "add a linear solver"), CHOLMOD takes
-// another solver's ordering when told (order_like) and spends less on the ordering of a
-// system factorised once, and CHOLMOD leaves the caller's OpenMP settings as they were
+// another solver's ordering when told (order_like), keeps an ordering it is asked to
+// compare only where its factor is cheaper, and spends less on the ordering of a system
+// factorised once, and CHOLMOD leaves the caller's OpenMP settings as they were
 // and runs its serial OpenMP regions as plain calls (SerialOpenMpRegions), which changes
 // no other region.
 #include <gtest/gtest.h>
@@ -272,6 +273,63 @@ TEST(LinearSolver, CholmodOrdersASystemFactorisedOnceByMetisOnlyWhereAmdIsCostly
       EXPECT_EQ(once->factor_nonzeros(), usual->factor_nonzeros()) << "METIS's fill, as by default";
     for (const auto* s : {usual.get(), once.get()}) EXPECT_LT((A * s->solve(b) - b).norm(), 1e-12 * b.norm()) << m;
   }
+}
+
+// An ordering made for another system on the same nodes (the load step's, given to the
+// gradient step's scalar systems: LinearSolver::order_by with compare) is kept only where
+// its factor costs fewer flops than CHOLMOD's own ordering's. The star of the test above
+// with its hub early: AMD's ordering (hub last, no fill) is kept instead. A 27-point
+// Laplacian of 20^3 unknowns factorised once, given the ordering CHOLMOD's default makes
+// for it (METIS's): kept, with less fill than the AMD ordering the solver makes alone.
+TEST(LinearSolver, CholmodKeepsAComparedOrderingOnlyWhereItsFactorIsCheaper) {
+  const int n = 60;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, i == 1 ? n + 1.0 : 4.0);
+  for (int i = 0; i < n; ++i)
+    if (i != 1) t.emplace_back(i, 1, -1.0), t.emplace_back(1, i, -1.0);
+  SparseMatrix star(n, n);
+  star.setFromTriplets(t.begin(), t.end());
+  std::vector<int> hub_early(n);
+  for (int i = 0; i < n; ++i) hub_early[i] = (i + 1) % n;  // 1, 2, ..., n - 1, 0
+  const Vector c = Vector::LinSpaced(n, 1.0, 3.0);
+  const auto taken = make_linear_solver(named("cholmod")), compared = make_linear_solver(named("cholmod"));
+  ASSERT_TRUE(taken->order_by(hub_early));
+  ASSERT_TRUE(compared->order_by(hub_early, true));
+  taken->compute(star);
+  compared->compute(star);
+  EXPECT_GT(taken->factor_nonzeros(), n * (n - 1) / 4) << "taken as given: the hub first, filled in";
+  EXPECT_EQ(compared->factor_nonzeros(), 2 * n - 1) << "compared: AMD's, the hub last, no fill";
+  EXPECT_LT((star * compared->solve(c) - c).norm(), 1e-12 * c.norm());
+
+  const int m = 20;
+  t.clear();
+  const auto id = [m](int i, int j, int k) { return (k * m + j) * m + i; };
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i)
+        for (int e = -1; e <= 1; ++e)
+          for (int b = -1; b <= 1; ++b)
+            for (int a = -1; a <= 1; ++a) {
+              const int x = i + a, y = j + b, z = k + e;
+              if (x >= 0 && y >= 0 && z >= 0 && x < m && y < m && z < m)
+                t.emplace_back(id(i, j, k), id(x, y, z), (a || b || e) ? -0.2 : 6.0);
+            }
+  SparseMatrix A(m * m * m, m * m * m);
+  A.setFromTriplets(t.begin(), t.end());
+  SystemDescription once;
+  once.factorized_once = true;
+  const auto usual = make_linear_solver(named("cholmod")), alone = make_linear_solver(named("cholmod")),
+             given = make_linear_solver(named("cholmod"));
+  usual->compute(A);
+  alone->describe(once);
+  alone->compute(A);
+  given->describe(once);
+  ASSERT_TRUE(given->order_by(usual->ordering(), true));
+  given->compute(A);
+  ASSERT_GT(alone->factor_nonzeros(), 1.3 * usual->factor_nonzeros()) << "alone: AMD's larger fill (test above)";
+  EXPECT_EQ(given->factor_nonzeros(), usual->factor_nonzeros()) << "the ordering compared is the cheaper: kept";
+  const Vector b = Vector::LinSpaced(A.rows(), -1.0, 2.0);
+  EXPECT_LT((A * given->solve(b) - b).norm(), 1e-12 * b.norm());
 }
 
 TEST(LinearSolver, NonSymmetricMatrixIsSolvedByAGeneralSolverNeverSymmetrised) {

@@ -288,9 +288,10 @@ void save_run_state(Archive& a, Archive& points, const Model<dim>& m, const Driv
   a.put_real("driver/next_increment", driver.next_increment);
   a.put("driver/summary",
         std::vector<long long>{driver.summary.steps, driver.summary.total_iterations, driver.summary.cuts});
-  a.put("driver/ordering", std::vector<long long>(driver.ordering.begin(), driver.ordering.end()));
-  a.put_real("driver/ordering_fill", driver.ordering_fill);
-  a.put_real("driver/ordering_entries", driver.ordering_entries);
+  const CarriedOrdering& o = driver.ordering;
+  a.put("driver/ordering", std::vector<long long>(o.nodes.begin(), o.nodes.end()));
+  a.put_real("driver/ordering_fill", o.fill);
+  a.put_real("driver/ordering_entries", o.entries);
   double total = m.points.size();
   ranks::sum(&total, 1);  // (serially the identity)
   a.put_integer("layout/points", static_cast<long long>(total));
@@ -408,10 +409,10 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
     if (node < 0 || node >= m.grid.num_nodes())
       throw InputError(fmt::format("{}: driver/ordering names node {}, not one of the grid's {} (damaged)",
                                    r.folder.string(), node, m.grid.num_nodes()));
-    d.ordering.push_back(static_cast<int>(node));
+    d.ordering.nodes.push_back(static_cast<int>(node));
   }
-  d.ordering_fill = a.real("driver/ordering_fill");
-  d.ordering_entries = a.real("driver/ordering_entries");
+  d.ordering.fill = a.real("driver/ordering_fill");
+  d.ordering.entries = a.real("driver/ordering_entries");
   return d;
 }
 

@@ -30,11 +30,13 @@ class HelmholtzSmoother {
   /// the smoothed fields are right in those rows (all that its points' stencils read);
   /// a rank's `dirichlet_dofs` are those of its own and ghost rows (it may hold none
   /// where another rank holds some: whether the system has any is decided over the ranks).
-  /// `ordered_like`: the solver of a smoother on the same pattern, whose ordering this
-  /// one's analysis takes (LinearSolver::order_like; null: its own).
+  /// `ordering`: an elimination order of the equations for its analysis
+  /// (LinearSolver::order_by): another smoother's on the same pattern, taken as it is; or,
+  /// with `compare`, one made for another system on these nodes (the load step's), kept
+  /// only where its factor is cheaper than the solver's own ordering's. Empty: its own.
   HelmholtzSmoother(const Assembler<dim>& assembler, const SparseMatrix& scalar_pattern, double length_scale,
                     const std::vector<int>& dirichlet_dofs = {}, const LinearSolverSettings& solver = {},
-                    bool shares = false, const LinearSolver* ordered_like = nullptr)
+                    bool shares = false, std::vector<int> ordering = {}, bool compare = false)
       : assembler_(assembler),
         solver_(make_linear_solver(solver)),
         halo_(shares ? RowHalo(assembler.dofs().rank_rows(), touched_rows(scalar_pattern), assembler.dofs().global_rows()) : RowHalo()),
@@ -51,7 +53,7 @@ class HelmholtzSmoother {
       system.halo = &halo_;
     }
     solver_->describe(system);
-    if (ordered_like) solver_->order_like(*ordered_like);
+    solver_->order_by(std::move(ordering), compare);
     solver_->compute(A);
   }
   // The solver and the Dirichlet elimination keep the halo's address.

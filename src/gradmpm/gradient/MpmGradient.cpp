@@ -29,10 +29,15 @@ namespace {
 template <int dim>
 class SmoothingContext {
  public:
-  SmoothingContext(const Model<dim>& m, double l, const LinearSolverSettings& backend)
+  /// `node_order`: the load step's elimination order of the grid nodes (StepInfo's
+  /// DriverState::ordering.nodes; empty: none), which the first smoother's analysis compares
+  /// with its own ordering (smoother()).
+  SmoothingContext(const Model<dim>& m, double l, const LinearSolverSettings& backend,
+                   const std::vector<int>& node_order = {})
       : model_(m),
         l_(l),
         backend_(backend),
+        node_order_(node_order),
         split_(owned_points(m)),
         st_(stencils(m)),
         // (a distributed run: numbered by the nodes' owners; each rank knows its own and
@@ -181,11 +186,34 @@ class SmoothingContext {
   /// A smoother of this context's pattern. The first one made orders the pattern (AMD,
   /// METIS: most of an analysis, 3.6 s at 5e5 nodes in 2D); the others take its ordering,
   /// so that a step's smoothers, which differ only in their values (length scale, held
-  /// rows), pay for one ordering.
+  /// rows), pay for one ordering. The first is given the load step's node order to
+  /// compare with AMD's: made on the same nodes, it is often the better of the two (where
+  /// the load step's came from METIS), and then spares METIS's time here.
   std::unique_ptr<HelmholtzSmoother<dim>> smoother(double l, const std::vector<int>& held) {
-    auto sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l, held, backend_, split_, ordered_);
-    if (!ordered_) ordered_ = &sm->solver();
+    const bool first = ordered_ == nullptr;
+    std::vector<int> ordering = first ? load_step_ordering() : ordered_->ordering();
+    auto sm = std::make_unique<HelmholtzSmoother<dim>>(assembler_, pattern_, l, held, backend_, split_,
+                                                       std::move(ordering), first);
+    if (first) ordered_ = &sm->solver();
     return sm;
+  }
+
+  /// The scalar equations in the load step's node order, the nodes it did not solve for
+  /// last (serially; a distributed run's solver orders its own rows: none).
+  std::vector<int> load_step_ordering() const {
+    if (node_order_.empty() || split_) return {};
+    const int n = dofs_.num_dofs();
+    std::vector<char> placed(n, 0);
+    std::vector<int> perm;
+    perm.reserve(n);
+    for (const int node : node_order_)
+      if (node >= 0 && node < dofs_.num_grid_nodes() && dofs_.active(node) && !placed[dofs_.dof(node, 0)]) {
+        placed[dofs_.dof(node, 0)] = 1;
+        perm.push_back(dofs_.dof(node, 0));
+      }
+    for (int eq = 0; eq < n; ++eq)
+      if (!placed[eq]) perm.push_back(eq);
+    return perm;
   }
 
   /// Whether the model holds a distributed run's rank's points (the driver's ownership).
@@ -208,6 +236,7 @@ class SmoothingContext {
   const Model<dim>& model_;
   double l_;
   LinearSolverSettings backend_;
+  std::vector<int> node_order_;  ///< the load step's, by grid node (may be empty)
   bool split_;                 ///< distributed: each rank assembles its points' share (HelmholtzSmoother)
   PointStencils<dim> st_;
   DofMap dofs_;
@@ -269,7 +298,7 @@ void complete(const Model<dim>& m, GradientVariant v, EnrichedFields<dim>& f) {
 }  // namespace
 
 template <int dim>
-EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s) {
+EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s, const std::vector<int>& node_order) {
   EnrichedFields<dim> f;
   const int n = m.points.size();
   f.resize(n);
@@ -281,7 +310,7 @@ EnrichedFields<dim> smooth_total(const Model<dim>& m, const GradientSettings& s)
     f.stress = m.points.stress;
     return f;
   }
-  SmoothingContext<dim> ctx(m, s.length_scale, s.linear_solver);
+  SmoothingContext<dim> ctx(m, s.length_scale, s.linear_solver, node_order);
   switch (s.variant) {
     case GradientVariant::U_RA: {
       std::vector<Mat3> grad;
@@ -319,7 +348,7 @@ GradientTracker<dim>::GradientTracker(const Model<dim>& m, const GradientSetting
 }
 
 template <int dim>
-void GradientTracker<dim>::after_step(const Model<dim>& m) {
+void GradientTracker<dim>::after_step(const Model<dim>& m, const std::vector<int>& node_order) {
   const auto t0 = Clock::now();
   const int n = m.points.size();
   const GradientVariant v = settings_.variant;
@@ -330,7 +359,7 @@ void GradientTracker<dim>::after_step(const Model<dim>& m) {
     fields_.strain = eps;
     fields_.stress = m.points.stress;
   } else {
-    SmoothingContext<dim> ctx(m, settings_.length_scale, settings_.linear_solver);
+    SmoothingContext<dim> ctx(m, settings_.length_scale, settings_.linear_solver, node_order);
     if (v == GradientVariant::U_RA) {
       std::vector<Vec<dim>> du(n), dug;
       std::vector<Mat3> grad;
@@ -412,10 +441,10 @@ template <int dim>
 void GradientStep<dim>::after_step(Model<dim>& m, const StepInfo& info) {
   if (!enabled()) return;
   if (tracker_) {
-    tracker_->after_step(m);
+    tracker_->after_step(m, info.after.ordering.nodes);
   } else if (info.last || settings_.apply == GradientApply::EachStep) {
     const auto t0 = Clock::now();
-    latest_ = smooth_total<dim>(m, settings_);
+    latest_ = smooth_total<dim>(m, settings_, info.after.ordering.nodes);
     seconds_ += seconds_since(t0);
   }
 }
@@ -426,9 +455,12 @@ const EnrichedFields<dim>* GradientStep<dim>::fields() const {
   return latest_ ? &*latest_ : nullptr;
 }
 
-template EnrichedFields<1> smooth_total<1>(const Model<1>&, const GradientSettings&);
-template EnrichedFields<2> smooth_total<2>(const Model<2>&, const GradientSettings&);
-template EnrichedFields<3> smooth_total<3>(const Model<3>&, const GradientSettings&);
+template EnrichedFields<1> smooth_total<1>(const Model<1>&, const GradientSettings&,
+                                                 const std::vector<int>&);
+template EnrichedFields<2> smooth_total<2>(const Model<2>&, const GradientSettings&,
+                                                 const std::vector<int>&);
+template EnrichedFields<3> smooth_total<3>(const Model<3>&, const GradientSettings&,
+                                                 const std::vector<int>&);
 template class GradientTracker<1>;
 template class GradientTracker<2>;
 template class GradientTracker<3>;

@@ -62,9 +62,12 @@ struct EnrichedFields {
 
 /// Smooths the total classical field of the model's current state (fields = grid, or
 /// apply = end). The displacement of a point is x_p - X_p; u-RA holds the classically
-/// constrained node components at the L2 projection of that field.
+/// constrained node components at the L2 projection of that field. `node_order`: the
+/// last load step's elimination order of the grid nodes (StepInfo::after.ordering.nodes), which
+/// the Helmholtz systems' analysis compares with its own; empty: none.
 template <int dim>
-EnrichedFields<dim> smooth_total(const Model<dim>& model, const GradientSettings& s);
+EnrichedFields<dim> smooth_total(const Model<dim>& model, const GradientSettings& s,
+                                 const std::vector<int>& node_order = {});
 
 /// Carries the enriched fields at the points through the load steps (fields = points).
 template <int dim>
@@ -72,8 +75,9 @@ class GradientTracker {
  public:
   GradientTracker(const Model<dim>& model, const GradientSettings& s);
   /// After a converged step: smooths the step's increments of the classical field
-  /// (taken at the points) and accumulates them at the points.
-  void after_step(const Model<dim>& model);
+  /// (taken at the points) and accumulates them at the points. `node_order`: as for
+  /// smooth_total.
+  void after_step(const Model<dim>& model, const std::vector<int>& node_order = {});
   const EnrichedFields<dim>& fields() const { return fields_; }
   double seconds() const { return seconds_; }
   /// Its state (the accumulated fields and the classical fields of the last step) under `prefix`.

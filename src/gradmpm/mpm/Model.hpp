@@ -194,19 +194,21 @@ struct RunSummary {
   int cuts = 0;
 };
 
+/// The last analysis's ordering, which the next load step's analysis starts from
+/// (NewtonSettings::reuse_ordering; empty for iterative solvers).
+struct CarriedOrdering {
+  std::vector<int> nodes;  ///< the grid nodes in the order their equations were eliminated
+  double fill = 0.0;       ///< entries of the factor per entry of the matrix, of the last ordering computed afresh
+  double entries = 0.0;    ///< the matrix's entries at the last analysis
+};
+
 /// Where the driver stands between two load steps: with the model (and the post-step
 /// stages' state), everything a restarted run needs to continue bit for bit.
 struct DriverState {
   double load_factor = 0.0;     ///< lambda reached
   double next_increment = 0.0;  ///< d lambda the next step tries first (0: the nominal one)
   RunSummary summary;           ///< of the steps so far
-  /// The last analysis's ordering by grid node, the fill (entries of the factor per
-  /// entry of the matrix) of the last ordering computed afresh, and the matrix's entries
-  /// at the last analysis: what the next step's analysis starts from
-  /// (NewtonSettings::reuse_ordering; empty for iterative solvers).
-  std::vector<int> ordering;
-  double ordering_fill = 0.0;
-  double ordering_entries = 0.0;
+  CarriedOrdering ordering;     ///< what the next step's analysis starts from
 };
 
 /// What one converged load step did; passed to the observer after every step.

@@ -55,12 +55,11 @@ struct StepSolvers {
   /// The last analysis's ordering by grid node: each active node once, where its first
   /// equation is eliminated (empty for a solver without one). A later step's equations
   /// are numbered anew (nodes become active or inactive), its nodes are not.
-  std::vector<int> node_order;
-  double fill = 0.0;     ///< entries of L per entry of A, of the last ordering computed afresh
-  double entries = 0.0;  ///< entries of A at the last analysis
+  CarriedOrdering carried;
 
   void remember_ordering(const DofMap& dofs, const LinearSolver& solver) {
     const std::vector<int> perm = solver.ordering();
+    std::vector<int>& node_order = carried.nodes;
     node_order.clear();
     if (perm.empty()) return;
     std::vector<char> seen(dofs.num_active_nodes(), 0);
@@ -73,7 +72,7 @@ struct StepSolvers {
   /// Gives the solver the last ordering in this step's equations: the nodes still active
   /// in that order, each node's equations together, then the newly active ones.
   bool take_ordering(const DofMap& dofs, LinearSolver& solver) const {
-    if (node_order.empty()) return false;
+    if (carried.nodes.empty()) return false;
     const int nc = dofs.ncomp();
     std::vector<char> placed(dofs.num_active_nodes(), 0);
     std::vector<int> perm;
@@ -83,7 +82,7 @@ struct StepSolvers {
       placed[local] = 1;
       for (int c = 0; c < nc; ++c) perm.push_back(local * nc + c);
     };
-    for (const int node : node_order)
+    for (const int node : carried.nodes)
       if (node < dofs.num_grid_nodes() && dofs.active(node)) place(dofs.dof(node, 0) / nc);
     for (int local = 0; local < dofs.num_active_nodes(); ++local) place(local);
     return solver.order_by(std::move(perm));
@@ -218,19 +217,20 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
           // graph), or the factor it gives has more fill than a tenth above the last
           // fresh ordering's (then the analysis is made again, ordered afresh).
           const double entries = static_cast<double>(K.nonZeros());
-          bool taken = settings.reuse_ordering && std::abs(entries - solvers.entries) <= 0.1 * solvers.entries &&
+          CarriedOrdering& carried = solvers.carried;
+          bool taken = settings.reuse_ordering && std::abs(entries - carried.entries) <= 0.1 * carried.entries &&
                        solvers.take_ordering(step.dofs(), *solver);
           solver->analyze(K);
           ++times.analyses;
-          solvers.entries = entries;
-          if (taken && solver->factor_nonzeros() > 1.1 * solvers.fill * entries) {
+          carried.entries = entries;
+          if (taken && solver->factor_nonzeros() > 1.1 * carried.fill * entries) {
             solver->analyze(K);  // a poor fit (points moved far, material entered new cells): afresh
             ++times.analyses;
             taken = false;
           }
           if (!taken) {
             ++times.orderings;
-            solvers.fill = solver->factor_nonzeros() / entries;
+            carried.fill = solver->factor_nonzeros() / entries;
           }
           if (settings.reuse_ordering) solvers.remember_ordering(step.dofs(), *solver);
           if (settings.reuse_analysis && !solver->iterative()) solvers.remember_pattern(K);
@@ -366,9 +366,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   const double nominal = 1.0 / settings.load_steps;
   double lambda = start.load_factor, dlambda = start.next_increment > 0.0 ? start.next_increment : nominal;
   StepSolvers solvers;  // across the steps: an unchanged pattern keeps its analysis, a changed one its ordering
-  solvers.node_order = start.ordering;
-  solvers.fill = start.ordering_fill;
-  solvers.entries = start.ordering_entries;
+  solvers.carried = start.ordering;
   while (lambda < 1.0 - 1e-12) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
@@ -445,7 +443,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
     info.rigid_forces = [&] { return step->rigid_forces(); };
     summary.total_iterations += info.phases.iterations;
     if (info.cuts == 0) dlambda = std::min(2.0 * dlambda, nominal);  // grow back after a cut
-    info.after = DriverState{lambda, dlambda, summary, solvers.node_order, solvers.fill, solvers.entries};
+    info.after = DriverState{lambda, dlambda, summary, solvers.carried};
     const auto t_stages = Clock::now();
     for (PostStepStage<dim>* stage : stages) stage->after_step(model, info);
     info.stage_seconds = seconds_since(t_stages);

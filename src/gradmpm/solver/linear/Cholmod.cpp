@@ -136,28 +136,23 @@ class CholmodSolver final : public LinearSolver {
     // CHOLMOD's default: AMD, then METIS too when AMD's factor is costly (flops >= 500
     // nnz(L), nnz(L) >= 5 nnz(A)), the one with fewer flops kept: right for the Newton
     // tangent, factorised at every iteration. Given an ordering (order_by: another
-    // solver's, the previous load step's), only the symbolic factorisation is made.
-    if (given_.size() == static_cast<std::size_t>(A.rows())) {
-      L_ = analyze_by(view, CHOLMOD_GIVEN);
-    } else if (!once_) {
-      L_ = analyze_by(view, -1);
+    // solver's, the previous load step's), only the symbolic factorisation is made; given
+    // one to compare (made for another system on these nodes), AMD's too.
+    const bool taken = given_.size() == static_cast<std::size_t>(A.rows());
+    Analysis a;
+    if (taken) {
+      a = analyze_by(view, CHOLMOD_GIVEN);
+      if (compare_) keep_cheaper(a, view, CHOLMOD_AMD);
     } else {
-      // A system factorised once (describe): METIS is tried only where AMD's factor
-      // costs more flops per entry of A than kMetisFlopsPerEntry, where the flops METIS
-      // saves in a factorisation pay for its time (measured, docs/performance.md).
-      L_ = analyze_by(view, CHOLMOD_AMD);
-      if (L_ && flops_ >= kMetisFlopsPerEntry * static_cast<double>(A.nonZeros())) {
-        const double amd_flops = flops_, amd_lnz = lnz_;
-        cholmod_factor* metis = analyze_by(view, CHOLMOD_METIS);
-        if (metis && flops_ < amd_flops) {
-          std::swap(L_, metis);
-        } else {
-          flops_ = amd_flops;
-          lnz_ = amd_lnz;
-        }
-        if (metis) cholmod_free_factor(&metis, &c_);
-      }
+      a = analyze_by(view, once_ ? CHOLMOD_AMD : -1);
     }
+    // A system factorised once (describe): METIS is tried only where the factor so far
+    // costs more flops per entry of A than kMetisFlopsPerEntry, where the flops METIS
+    // saves in a factorisation pay for its time (measured, docs/performance.md).
+    if (once_ && (!taken || compare_) && a.L && a.flops >= kMetisFlopsPerEntry * static_cast<double>(A.nonZeros()))
+      keep_cheaper(a, view, CHOLMOD_METIS);
+    L_ = a.L;
+    lnz_ = a.lnz;
     given_.clear();
     if (!L_) throw SolverError(failure("symbolic analysis"));
     // S = tril(P A P') with each entry's value the entry's position in A's values (exact
@@ -176,9 +171,13 @@ class CholmodSolver final : public LinearSolver {
     nonzeros_ = A.nonZeros();
   }
 
-  /// cholmod_analyze_p with one ordering method (-1: CHOLMOD's default choice); the
-  /// factor's flops and entries in flops_ and lnz_.
-  cholmod_factor* analyze_by(cholmod_sparse& view, int method) {
+  /// A symbolic factorisation and what its factor costs.
+  struct Analysis {
+    cholmod_factor* L = nullptr;
+    double flops = 0.0, lnz = 0.0;
+  };
+  /// cholmod_analyze_p with one ordering method (-1: CHOLMOD's default choice).
+  Analysis analyze_by(cholmod_sparse& view, int method) {
     const int methods = c_.nmethods, ordering = c_.method[0].ordering;
     if (method >= 0) {
       c_.nmethods = 1;
@@ -187,13 +186,18 @@ class CholmodSolver final : public LinearSolver {
     cholmod_factor* L = cholmod_analyze_p(&view, method == CHOLMOD_GIVEN ? given_.data() : nullptr, nullptr, 0, &c_);
     c_.nmethods = methods;
     c_.method[0].ordering = ordering;
-    flops_ = c_.fl;
-    lnz_ = c_.lnz;
-    return L;
+    return {L, c_.fl, c_.lnz};
+  }
+  /// Analyses by `method` too and keeps, of the two, the factor with fewer flops.
+  void keep_cheaper(Analysis& kept, cholmod_sparse& view, int method) {
+    Analysis other = analyze_by(view, method);
+    if (other.L && (!kept.L || other.flops < kept.flops)) std::swap(kept, other);
+    if (other.L) cholmod_free_factor(&other.L, &c_);
   }
 
-  bool do_order_by(std::vector<int>& perm) override {
+  bool do_order_by(std::vector<int>& perm, bool compare) override {
     given_ = std::move(perm);
+    compare_ = compare;
     return true;
   }
 
@@ -260,9 +264,9 @@ class CholmodSolver final : public LinearSolver {
   std::vector<double> position_;
   std::vector<int> source_;    ///< S_'s k-th value is A's value source_[k]
   std::vector<int> given_;     ///< order_by: the ordering the next analysis takes
+  bool compare_ = false;       ///< order_by: given_ is compared with AMD's ordering
   bool once_ = false;          ///< describe: each analysis is factorised once
-  double flops_ = 0.0;         ///< the analysed factor's flops
-  double lnz_ = 0.0;           ///< and entries
+  double lnz_ = 0.0;           ///< the analysed factor's entries
   Eigen::Index nonzeros_ = 0;  ///< A's entries at the analysis (its size is L_->n)
   SparseMatrix copy_;          ///< compressed(): an uncompressed matrix's compressed copy
 };

@@ -16,7 +16,7 @@ void LinearSolver::analyze(const SparseMatrix& A) {
   factorized_ = false;
 }
 
-bool LinearSolver::order_by(std::vector<int> perm) {
+bool LinearSolver::order_by(std::vector<int> perm, bool compare) {
   if (perm.empty()) return false;
   std::vector<char> seen(perm.size(), 0);
   for (const int k : perm) {
@@ -24,7 +24,7 @@ bool LinearSolver::order_by(std::vector<int> perm) {
       throw std::invalid_argument(name() + ": order_by given something other than a permutation");
     seen[k] = 1;
   }
-  if (!do_order_by(perm)) return false;
+  if (!do_order_by(perm, compare)) return false;
   analyzed_ = factorized_ = false;  // the next factorize analyses with that ordering
   return true;
 }

@@ -81,7 +81,10 @@ class LinearSolver {
   /// solver orders at all. Any ordering gives the same solution, to round-off; a poor one
   /// only costs fill (factor_nonzeros). Returns whether it will (false for an iterative
   /// solver); a `perm` that is not a permutation is a std::invalid_argument.
-  bool order_by(std::vector<int> perm);
+  /// `compare`: `perm` was made for another system on the same nodes (the gradient step's
+  /// scalar system, given the load step's ordering), so the analysis also makes the
+  /// solver's own cheap ordering (CHOLMOD: AMD) and keeps whichever factor costs fewer flops.
+  bool order_by(std::vector<int> perm, bool compare = false);
   /// order_by(analysed.ordering()): systems of one pattern (the gradient step's
   /// smoothers) share one ordering.
   bool order_like(const LinearSolver& analysed) { return order_by(analysed.ordering()); }
@@ -106,7 +109,7 @@ class LinearSolver {
  protected:
   virtual void do_analyze(const SparseMatrix& A) = 0;
   /// Keeps `perm` (a permutation) for the next analysis; default: no ordering to take.
-  virtual bool do_order_by(std::vector<int>&) { return false; }
+  virtual bool do_order_by(std::vector<int>&, bool /*compare*/) { return false; }
   virtual void do_factorize(const SparseMatrix& A) = 0;
   virtual Vector do_solve(const Vector& b) const = 0;
   /// Default: column by column.
