@@ -89,6 +89,38 @@ struct StepSolvers {
   }
 };
 
+/// The symbolic analysis of the tangent's pattern (A's values are not read), unless the
+/// solver's analysis was made for this pattern (an earlier step's). The previous step's
+/// ordering is taken unless the pattern has grown or shrunk by more than a tenth (the
+/// first step's regular points against moved ones: another graph), or the factor it gives
+/// has more fill than a tenth above the last fresh ordering's (then the analysis is made
+/// again, ordered afresh). Timed and counted in `times`.
+void analyse(const SparseMatrix& A, const DofMap& dofs, LinearSolver& solver, StepSolvers& solvers,
+             const NewtonSettings& settings, PhaseTimes& times) {
+  const auto t0 = Clock::now();
+  if (!solvers.analysed_for(A)) {
+    const double entries = static_cast<double>(A.nonZeros());
+    CarriedOrdering& carried = solvers.carried;
+    bool taken = settings.reuse_ordering && std::abs(entries - carried.entries) <= 0.1 * carried.entries &&
+                 solvers.take_ordering(dofs, solver);
+    solver.analyze(A);
+    ++times.analyses;
+    carried.entries = entries;
+    if (taken && solver.factor_nonzeros() > 1.1 * carried.fill * entries) {
+      solver.analyze(A);  // a poor fit (points moved far, material entered new cells): afresh
+      ++times.analyses;
+      taken = false;
+    }
+    if (!taken) {
+      ++times.orderings;
+      carried.fill = solver.factor_nonzeros() / entries;
+    }
+    if (settings.reuse_ordering) solvers.remember_ordering(dofs, solver);
+    if (settings.reuse_analysis && !solver.iterative()) solvers.remember_pattern(A);
+  }
+  times.analysis += seconds_since(t0);
+}
+
 /// Inexact Newton (Eisenstat & Walker 1996, choice 2, with their safeguard): an
 /// iterative linear solver reduces the residual only as far as Newton's progress
 /// warrants, eta_k = 0.9 (r_k / r_k-1)^2, at most 1e-2; and never below a tenth of what
@@ -210,32 +242,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     };
     try {
       if (!solvers.analysed) {  // the pattern is fixed within the load step
-        t0 = Clock::now();
-        if (!solvers.analysed_for(K)) {
-          // The previous step's ordering, unless the pattern has grown or shrunk by more
-          // than a tenth (the first step's regular points against moved ones: another
-          // graph), or the factor it gives has more fill than a tenth above the last
-          // fresh ordering's (then the analysis is made again, ordered afresh).
-          const double entries = static_cast<double>(K.nonZeros());
-          CarriedOrdering& carried = solvers.carried;
-          bool taken = settings.reuse_ordering && std::abs(entries - carried.entries) <= 0.1 * carried.entries &&
-                       solvers.take_ordering(step.dofs(), *solver);
-          solver->analyze(K);
-          ++times.analyses;
-          carried.entries = entries;
-          if (taken && solver->factor_nonzeros() > 1.1 * carried.fill * entries) {
-            solver->analyze(K);  // a poor fit (points moved far, material entered new cells): afresh
-            ++times.analyses;
-            taken = false;
-          }
-          if (!taken) {
-            ++times.orderings;
-            carried.fill = solver->factor_nonzeros() / entries;
-          }
-          if (settings.reuse_ordering) solvers.remember_ordering(step.dofs(), *solver);
-          if (settings.reuse_analysis && !solver->iterative()) solvers.remember_pattern(K);
-        }
-        times.analysis += seconds_since(t0);
+        analyse(K, step.dofs(), *solver, solvers, settings, times);
         solvers.analysed = true;
       }
       if (solver->iterative()) {
