@@ -187,8 +187,9 @@ class SmoothingContext {
   /// METIS: most of an analysis, 3.6 s at 5e5 nodes in 2D); the others take its ordering,
   /// so that a step's smoothers, which differ only in their values (length scale, held
   /// rows), pay for one ordering. The first is given the load step's node order to
-  /// compare with AMD's: made on the same nodes, it is often the better of the two (where
-  /// the load step's came from METIS), and then spares METIS's time here.
+  /// compare with AMD's: made on the same nodes, it had a third fewer flops at 1e5 dof in
+  /// 2D; where the points moved into denser couplings during the step it fits badly and
+  /// the solver's own is kept (docs/performance.md).
   std::unique_ptr<HelmholtzSmoother<dim>> smoother(double l, const std::vector<int>& held) {
     const bool first = ordered_ == nullptr;
     std::vector<int> ordering = first ? load_step_ordering() : ordered_->ordering();
@@ -455,12 +456,9 @@ const EnrichedFields<dim>* GradientStep<dim>::fields() const {
   return latest_ ? &*latest_ : nullptr;
 }
 
-template EnrichedFields<1> smooth_total<1>(const Model<1>&, const GradientSettings&,
-                                                 const std::vector<int>&);
-template EnrichedFields<2> smooth_total<2>(const Model<2>&, const GradientSettings&,
-                                                 const std::vector<int>&);
-template EnrichedFields<3> smooth_total<3>(const Model<3>&, const GradientSettings&,
-                                                 const std::vector<int>&);
+template EnrichedFields<1> smooth_total<1>(const Model<1>&, const GradientSettings&, const std::vector<int>&);
+template EnrichedFields<2> smooth_total<2>(const Model<2>&, const GradientSettings&, const std::vector<int>&);
+template EnrichedFields<3> smooth_total<3>(const Model<3>&, const GradientSettings&, const std::vector<int>&);
 template class GradientTracker<1>;
 template class GradientTracker<2>;
 template class GradientTracker<3>;
