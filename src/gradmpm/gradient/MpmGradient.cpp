@@ -203,18 +203,7 @@ class SmoothingContext {
   /// last (serially; a distributed run's solver orders its own rows: none).
   std::vector<int> load_step_ordering() const {
     if (node_order_.empty() || split_) return {};
-    const int n = dofs_.num_dofs();
-    std::vector<char> placed(n, 0);
-    std::vector<int> perm;
-    perm.reserve(n);
-    for (const int node : node_order_)
-      if (node >= 0 && node < dofs_.num_grid_nodes() && dofs_.active(node) && !placed[dofs_.dof(node, 0)]) {
-        placed[dofs_.dof(node, 0)] = 1;
-        perm.push_back(dofs_.dof(node, 0));
-      }
-    for (int eq = 0; eq < n; ++eq)
-      if (!placed[eq]) perm.push_back(eq);
-    return perm;
+    return dofs_.equations_in_node_order(node_order_);
   }
 
   /// Whether the model holds a distributed run's rank's points (the driver's ownership).

@@ -72,20 +72,7 @@ struct StepSolvers {
   /// Gives the solver the last ordering in this step's equations: the nodes still active
   /// in that order, each node's equations together, then the newly active ones.
   bool take_ordering(const DofMap& dofs, LinearSolver& solver) const {
-    if (carried.nodes.empty()) return false;
-    const int nc = dofs.ncomp();
-    std::vector<char> placed(dofs.num_active_nodes(), 0);
-    std::vector<int> perm;
-    perm.reserve(dofs.num_dofs());
-    const auto place = [&](int local) {
-      if (placed[local]) return;
-      placed[local] = 1;
-      for (int c = 0; c < nc; ++c) perm.push_back(local * nc + c);
-    };
-    for (const int node : carried.nodes)
-      if (node < dofs.num_grid_nodes() && dofs.active(node)) place(dofs.dof(node, 0) / nc);
-    for (int local = 0; local < dofs.num_active_nodes(); ++local) place(local);
-    return solver.order_by(std::move(perm));
+    return !carried.nodes.empty() && solver.order_by(dofs.equations_in_node_order(carried.nodes));
   }
 };
 

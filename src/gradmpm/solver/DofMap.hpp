@@ -114,6 +114,25 @@ class DofMap {
   int dof(int node, int comp) const { return eq_of_node_[node] * ncomp_ + comp; }
   int node_of(int eq) const { return node_of_eq_[eq]; }
 
+  /// A permutation of the equations (an elimination order) from an order of grid nodes:
+  /// the active nodes among `nodes` in that order, each node's equations together, then
+  /// the active nodes `nodes` leaves out, in equation order. Nodes outside the grid or
+  /// inactive are skipped (an order carried from another step or system).
+  std::vector<int> equations_in_node_order(const std::vector<int>& nodes) const {
+    std::vector<char> placed(num_active_nodes(), 0);
+    std::vector<int> perm;
+    perm.reserve(num_dofs());
+    const auto place = [&](int e) {
+      if (placed[e]) return;
+      placed[e] = 1;
+      for (int c = 0; c < ncomp_; ++c) perm.push_back(e * ncomp_ + c);
+    };
+    for (const int node : nodes)
+      if (node >= 0 && node < num_grid_nodes() && active(node)) place(eq_of_node_[node]);
+    for (int e = 0; e < num_active_nodes(); ++e) place(e);
+    return perm;
+  }
+
   /// A vector in equation numbering at every grid node, ncomp values per node (zero on
   /// inactive nodes).
   Vector to_grid_all(const Vector& v) const {
