@@ -45,7 +45,7 @@ class HelmholtzSmoother {
       throw std::logic_error("a distributed run's Helmholtz system needs a solver that adds the ranks' shares");
     SparseMatrix A = scalar_pattern;
     assembler.add_helmholtz(A, length_scale * length_scale);
-    if (held_) dirichlet_.apply_to_matrix(A, dirichlet_dofs, &halo_);
+    if (held_) dirichlet_.apply_to_matrix(A, dirichlet_dofs, &halo_, true);  // build_pattern(): symmetric
     SystemDescription system;  // scalar, factorised once
     system.factorized_once = true;
     if (shares) {

@@ -217,7 +217,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     step.stiffness(K, share);  // only when another iteration follows
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
-    bc.apply_to_matrix(K, step.constrained(), &step.halo());
+    bc.apply_to_matrix(K, step.constrained(), &step.halo(), true);  // make_pattern(): cliques, symmetric
     const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
     bc.apply_to_rhs(r, prescribed);
     const auto correction = [&](const Vector& d) {

@@ -4,11 +4,23 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/core/Ranks.hpp"
 
 namespace gradmpm {
 
-void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, const RowHalo* halo) {
+namespace {
+/// The entries of column `col` of A: [begin, end) of its inner indices (compressed or not).
+std::pair<const int*, const int*> column_rows(const SparseMatrix& A, int col) {
+  const int* inner = A.innerIndexPtr();
+  const int first = A.outerIndexPtr()[col];
+  const int last = A.isCompressed() ? A.outerIndexPtr()[col + 1] : first + A.innerNonZeroPtr()[col];
+  return {inner + first, inner + last};
+}
+}  // namespace
+
+void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, const RowHalo* halo,
+                                           bool symmetric_pattern) {
   dofs_ = dofs;
   halo_ = halo && halo->distributed() ? halo : nullptr;
   removed_.clear();
@@ -21,10 +33,10 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
   // factorisation sees no tiny or negative pivot there whatever the row held before.
   Vector diagonal = Vector::Zero(A.rows());
   const int* inner = A.innerIndexPtr();
-  for (int col = 0; col < A.outerSize(); ++col) {  // the diagonal by binary search in each column
-    const int* begin = inner + A.outerIndexPtr()[col];
-    const int* end =
-        inner + (A.isCompressed() ? A.outerIndexPtr()[col + 1] : A.outerIndexPtr()[col] + A.innerNonZeroPtr()[col]);
+  const int columns = static_cast<int>(A.outerSize());
+#pragma omp parallel for schedule(static) if (use_threads(columns))
+  for (int col = 0; col < columns; ++col) {  // the diagonal by binary search in each column
+    const auto [begin, end] = column_rows(A, col);
     const int* d = std::lower_bound(begin, end, col);
     if (d != end && *d == col) diagonal[col] = A.valuePtr()[d - inner];
   }
@@ -39,19 +51,48 @@ void DirichletElimination::apply_to_matrix(SparseMatrix& A, const std::vector<in
   }
   if (!(scale > 0.0)) scale = 1.0;
   scale_ = scale;
-  for (int col = 0; col < A.outerSize(); ++col) {
-    for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
-      const int row = it.row();
+  // Column col's entries at rows that are constrained or in a constrained column: zeroed,
+  // the diagonal set to the scale, the constrained columns' free-row entries remembered.
+  auto eliminate = [&](int col, const int* begin, const int* end) {
+    double* values = A.valuePtr();
+    for (const int* at = begin; at != end; ++at) {
+      const int row = *at;
       const int kc = index[col], kr = index[row];
       if (kc < 0 && kr < 0) continue;
+      double& value = values[at - inner];
       if (row == col) {
         const bool mine = !halo_ || (row >= halo_->first() && row < halo_->last());  // in one share only
-        it.valueRef() = mine ? scale : 0.0;
+        value = mine ? scale : 0.0;
         continue;
       }
-      if (kc >= 0 && kr < 0) removed_.push_back({row, kc, it.value()});
-      it.valueRef() = 0.0;
+      if (kc >= 0 && kr < 0) removed_.push_back({row, kc, value});
+      value = 0.0;
     }
+  };
+  if (!symmetric_pattern) {
+    for (int col = 0; col < columns; ++col) {
+      const auto [begin, end] = column_rows(A, col);
+      eliminate(col, begin, end);
+    }
+    return;
+  }
+  // Symmetric pattern: constrained columns in ascending order (removed_ as the pass over
+  // all columns lists it); a free column holds entries of constrained rows only where a
+  // constrained column holds its transpose, each found by binary search.
+  std::vector<int> constrained = dofs;
+  std::sort(constrained.begin(), constrained.end());
+  constrained.erase(std::unique(constrained.begin(), constrained.end()), constrained.end());
+  for (const int col : constrained) {
+    const auto [begin, end] = column_rows(A, col);
+    for (const int* at = begin; at != end; ++at) {
+      if (index[*at] >= 0) continue;  // a constrained column: met in its own turn
+      const auto [first, last] = column_rows(A, *at);
+      const int* t = std::lower_bound(first, last, col);
+      if (t == last || *t != col)
+        throw std::logic_error("Dirichlet elimination: the matrix's pattern is not symmetric as its caller declared");
+      A.valuePtr()[t - inner] = 0.0;
+    }
+    eliminate(col, begin, end);
   }
 }
 

@@ -18,7 +18,16 @@ class DirichletElimination {
   /// ranks' shares add up to it): the scale is the summed matrix's, the share of each
   /// constrained row's owner holds its diagonal (its pattern must have it), and the lift
   /// of a right-hand side is summed in own and ghost rows. Null or serial: A is whole.
-  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, const RowHalo* halo = nullptr);
+  ///
+  /// `symmetric_pattern`: A's pattern is structurally symmetric (every pattern
+  /// build_pattern_of_groups makes is: unions of the points' node cliques). The entries of
+  /// constrained rows are then found through the constrained columns' entries, by a search
+  /// in each column they name, instead of a pass over all of A (serial, 3e6 entries at 1e5
+  /// dof in 2D, at every Newton iteration). The result is the same bit for bit. A pattern
+  /// that is not symmetric is an error (std::logic_error) where it shows: a constrained
+  /// column's entry with no transposed entry.
+  void apply_to_matrix(SparseMatrix& A, const std::vector<int>& dofs, const RowHalo* halo = nullptr,
+                       bool symmetric_pattern = false);
 
   /// Lifts b for the prescribed `values` (same order as the dofs given above); with a
   /// halo, b is lifted in this rank's own and ghost rows.
