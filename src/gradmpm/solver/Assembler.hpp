@@ -16,6 +16,8 @@ template <int dim>
 class Assembler {
  public:
   static constexpr int max_local = Stencil<dim>::capacity * dim;
+  /// add_matrix(): node blocks of a column searched forward before a binary search.
+  static constexpr int kLookAhead = 4;
   /// Local matrix of one point: (count*ncomp)^2, stack storage only.
   using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, max_local, max_local>;
 
@@ -90,17 +92,23 @@ class Assembler {
       std::array<int, Stencil<dim>::capacity> at;  // row of node a's first component in b's columns
       for (int b = 0; b < s.count; ++b) {
         // The nc columns of node b hold the same rows (build_pattern: node blocks), so the
-        // rows are found once, in its first column. Rows of consecutive stencil nodes are
-        // usually consecutive entries; otherwise binary search.
+        // rows are found once, in its first column. The rows of a stencil's next node are
+        // usually a few node blocks further on (the next entry within a row of the grid, two
+        // on to the next row in 2D): looked for there first, by kLookAhead steps of a node
+        // block; otherwise (the next plane in 3D) by binary search.
         const int col = dofs_.dof(s.node[b], 0);
         const int begin = outer[col], len = outer[col + 1] - begin;
         int k = -1, prev = -1;
         for (int a = 0; a < s.count; ++a) {
           const int row = dofs_.dof(s.node[a], 0);
-          if (k >= 0 && row > prev && k + nc < len && inner[begin + k + nc] == row)
-            k += nc;
-          else
-            k = pattern_offset(A, row, col) - begin;
+          int found = -1;
+          if (k >= 0 && row > prev)
+            for (int j = k + nc, steps = 0; j < len && steps < kLookAhead && inner[begin + j] <= row; j += nc, ++steps)
+              if (inner[begin + j] == row) {
+                found = j;
+                break;
+              }
+          k = found >= 0 ? found : pattern_offset(A, row, col) - begin;
           at[a] = k;
           prev = row;
         }
