@@ -158,7 +158,6 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
   LinearSolver* solver = solvers.main.get();
   auto& general = solvers.general;
   Vector f_int;
-  SparseMatrix K;
   const double floor = step.roundoff_force();
   double eta = 1e-2;       // the forcing term of an iterative solver (forcing_term)
   Vector correction_free;  // the free part of the last Newton correction (backtracking halves it)
@@ -214,7 +213,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     if (it >= 2 && err > 1e6 * std::max(residuals.front(), settings.tolerance))
       throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
     t0 = Clock::now();
-    step.stiffness(K, share);  // only when another iteration follows
+    SparseMatrix& K = step.stiffness(share);  // only when another iteration follows
     times.assembly += seconds_since(t0);
     DirichletElimination bc;
     bc.apply_to_matrix(K, step.constrained(), &step.halo(), true);  // make_pattern(): cliques, symmetric
