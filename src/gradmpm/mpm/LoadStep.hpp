@@ -85,7 +85,11 @@ class LoadStep {
     }
     tangent_ = make_pattern();  // after the constraints
     if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(tangent_), dofs_.global_rows());
-    f_ext_ = external_force(st_, m.points, m.gravity, lambda_end, dofs_);  // eq. (1) at the step's end
+    // Eq. (1) at the step's end, scattered by strips on the threads (serially 8 ms per step
+    // for 2e5 points in 2D).
+    f_ext_ = Vector::Zero(dofs_.num_dofs());
+    assembler_.for_each_point_disjoint(
+        [&](int p) { add_external_force(st_, m.points, m.gravity, lambda_end, dofs_, p, f_ext_); });
     halo_.sum(f_ext_);  // every rank's points' share, in own and ghost rows
     if (split_) {  // this rank's points' nodal masses, in the first component's rows (grid_fields; as nodal_mass)
       mass_ = Vector::Zero(dofs_.num_dofs());

@@ -149,17 +149,22 @@ Vector nodal_mass(const PointStencils<dim>& st, const MaterialPoints<dim>& point
   return mass;
 }
 
+/// Point p's share of the external force (eq. 1): f_i += N_i(x_p) (m_p g + f_p) lambda.
+template <int dim, class DofNumbering>
+void add_external_force(const PointStencils<dim>& st, const MaterialPoints<dim>& points, const Vec<dim>& gravity,
+                        double lambda, const DofNumbering& dofs, int p, Vector& f_ext) {
+  const Vec<dim> f = (points.mass[p] * gravity + points.force[p]) * lambda;
+  for (int a = 0; a < st[p].count; ++a)
+    for (int i = 0; i < dim; ++i) f_ext[dofs.dof(st[p].node[a], i)] += st[p].N[a] * f[i];
+}
+
 /// The external force at load factor lambda, eq. (1): f_i = sum_p N_i (m_p g + f_p) lambda,
 /// dim components per active node in the equation numbering of `dofs`.
 template <int dim, class DofNumbering>
 Vector external_force(const PointStencils<dim>& st, const MaterialPoints<dim>& points, const Vec<dim>& gravity,
                       double lambda, const DofNumbering& dofs) {
   Vector f_ext = Vector::Zero(dofs.num_dofs());
-  for (std::size_t p = 0; p < st.size(); ++p) {
-    const Vec<dim> f = (points.mass[p] * gravity + points.force[p]) * lambda;
-    for (int a = 0; a < st[p].count; ++a)
-      for (int i = 0; i < dim; ++i) f_ext[dofs.dof(st[p].node[a], i)] += st[p].N[a] * f[i];
-  }
+  for (int p = 0; p < static_cast<int>(st.size()); ++p) add_external_force(st, points, gravity, lambda, dofs, p, f_ext);
   return f_ext;
 }
 

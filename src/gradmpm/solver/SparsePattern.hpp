@@ -29,15 +29,37 @@ SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, con
   // share their stencil): only the others are kept, as compact lists of their nodes'
   // equations (group k's are eqs[group_first[k] .. group_first[k + 1])), so the loops
   // below read contiguous memory, not the stencils.
+  // Chunks of the groups on the threads (the groups are read where they lie, 50 MB of
+  // stencils for 2e5 points in 2D), then joined in order: the same lists as one pass.
+  const bool threaded = use_threads(groups);
+  const int chunks = threaded ? max_threads() : 1;
+  std::vector<std::vector<int>> chunk_eqs(chunks), chunk_ends(chunks);
+#pragma omp parallel for schedule(static, 1) if (threaded)
+  for (int t = 0; t < chunks; ++t) {
+    const int begin = static_cast<int>(static_cast<long>(groups) * t / chunks);
+    const int end = static_cast<int>(static_cast<long>(groups) * (t + 1) / chunks);
+    std::vector<int>& e = chunk_eqs[t];
+    e.reserve(end > begin ? static_cast<std::size_t>(end - begin) * count(begin) : 0);
+    for (int g = begin; g < end; ++g) {
+      bool same = g > 0 && count(g) == count(g - 1);
+      for (int a = 0; same && a < count(g); ++a) same = node(g, a) == node(g - 1, a);
+      if (same) continue;
+      for (int a = 0; a < count(g); ++a) e.push_back(eq(node(g, a)));
+      chunk_ends[t].push_back(static_cast<int>(e.size()));
+    }
+  }
   std::vector<int> group_first{0}, eqs;
-  group_first.reserve(groups + 1);
-  eqs.reserve(groups > 0 ? static_cast<std::size_t>(groups) * count(0) : 0);
-  for (int g = 0; g < groups; ++g) {
-    bool same = g > 0 && count(g) == count(g - 1);
-    for (int a = 0; same && a < count(g); ++a) same = node(g, a) == node(g - 1, a);
-    if (same) continue;
-    for (int a = 0; a < count(g); ++a) eqs.push_back(eq(node(g, a)));
-    group_first.push_back(static_cast<int>(eqs.size()));
+  std::size_t kept = 0, listed = 0;
+  for (int t = 0; t < chunks; ++t) {
+    kept += chunk_ends[t].size();
+    listed += chunk_eqs[t].size();
+  }
+  group_first.reserve(kept + 1);
+  eqs.reserve(listed);
+  for (int t = 0; t < chunks; ++t) {
+    const int offset = static_cast<int>(eqs.size());
+    eqs.insert(eqs.end(), chunk_eqs[t].begin(), chunk_eqs[t].end());
+    for (const int end : chunk_ends[t]) group_first.push_back(offset + end);
   }
   const int distinct = static_cast<int>(group_first.size()) - 1;
   // Groups touching each active node, as compressed lists.
@@ -48,8 +70,6 @@ SparseMatrix build_pattern_of_groups(int groups, Count&& count, Node&& node, con
   for (int k = 0; k < distinct; ++k)
     for (int m = group_first[k]; m < group_first[k + 1]; ++m) touching[fill[eqs[m]]++] = k;
   // Neighbour equations of each active node: chunk t of the nodes into nbrs[t].
-  const bool threaded = use_threads(groups);
-  const int chunks = threaded ? max_threads() : 1;
   std::vector<std::vector<int>> nbrs(chunks), stamps(chunks, std::vector<int>(n_active, -1));
   std::vector<int> nbr_count(n_active);
   auto chunk_begin = [&](int t) { return static_cast<int>(static_cast<long>(n_active) * t / chunks); };
