@@ -1,16 +1,16 @@
-// Requirements on the sparse machinery: the pattern + scatter-add assembly gives the
-// same operator as a dense reference, Dirichlet elimination gives the constrained
-// solution (and, on a symmetric pattern, the same matrix bit for bit whether it passes
-// over every column or searches through the constrained ones), every registered linear solver (one interface, created by name) solves
-// what it claims to: the SPD ones agree and refuse an indefinite matrix, the general ones
-// solve a non-symmetric system without symmetrising it, a symmetric-only choice hands
-// non-symmetric matrices to linear_solver.general, and a solver defined only in this
-// test joins the registry with one call (recipe "add a linear solver"), CHOLMOD takes
-// another solver's ordering when told (order_like), keeps an ordering it is asked to
-// compare only where its factor is cheaper, and spends less on the ordering of a system
-// factorised once, and CHOLMOD leaves the caller's OpenMP settings as they were
-// and runs its serial OpenMP regions as plain calls (SerialOpenMpRegions), which changes
-// no other region.
+// Requirements on the sparse machinery: the pattern + scatter-add assembly gives the same
+// operator as a dense reference, Dirichlet elimination gives the constrained solution
+// (and, on a symmetric pattern, the same matrix bit for bit whether it passes over every
+// column or searches through the constrained ones), every registered linear solver (one
+// interface, created by name) solves what it claims to: the SPD ones agree and refuse an
+// indefinite matrix, the general ones solve a non-symmetric system without symmetrising
+// it, a symmetric-only choice hands non-symmetric matrices to linear_solver.general, and a
+// solver defined only in this test joins the registry with one call (recipe "add a linear
+// solver"), CHOLMOD takes another solver's ordering when told (order_like), keeps an
+// ordering it is asked to compare only where its factor is cheaper, and spends less on the
+// ordering of a system factorised once, and CHOLMOD leaves the caller's OpenMP settings as
+// they were and runs its serial OpenMP regions as plain calls (SerialOpenMpRegions), which
+// changes no other region.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -105,7 +105,8 @@ TEST(Dirichlet, ASymmetricPatternIsEliminatedThroughTheConstrainedColumnsBitForB
   // and the lifted right-hand side exactly as the pass over every column does.
   Grid<2> grid{Vec<2>(0.0, 0.0), Vec<2>(0.25, 0.25), {4, 4}};
   MaterialPoints<2> points;
-  add_gauss_points<2>(grid, {0, 0}, {4, 4}, 2, [](const Vec<2>&) { return 0; }, points);
+  add_gauss_points<2>(
+      grid, {0, 0}, {4, 4}, 2, [](const Vec<2>&) { return 0; }, points);
   const PointStencils<2> st = evaluate_stencils<2, LinearBasis<2>>(grid, points);
   const DofMap dofs(st, grid.num_nodes(), 2);
   SparseMatrix A = build_pattern(st, dofs);
@@ -130,7 +131,8 @@ TEST(Dirichlet, ASymmetricPatternIsEliminatedThroughTheConstrainedColumnsBitForB
   EXPECT_GT(zeroed, 30) << "the constrained rows and columns were zeroed";
   for (Eigen::Index i = 0; i < b_pass.size(); ++i) EXPECT_EQ(b_pass[i], b_search[i]) << "row " << i;
   // A pattern that is not symmetric, where a constrained column shows it, is refused.
-  SparseMatrix lower = SparseMatrix(Eigen::MatrixXd::Ones(4, 4).triangularView<Eigen::Lower>().toDenseMatrix().sparseView());
+  SparseMatrix lower =
+      SparseMatrix(Eigen::MatrixXd::Ones(4, 4).triangularView<Eigen::Lower>().toDenseMatrix().sparseView());
   DirichletElimination refused;
   EXPECT_THROW(refused.apply_to_matrix(lower, {1}, nullptr, true), std::logic_error);
 }

@@ -225,8 +225,7 @@ class CholmodSolver final : public LinearSolver {
   /// larger than any before (the second, once the points have moved) paid it on one core:
   /// at 1e5 dof in 2D the step's first factorisation took about twice its next.
   void allocate_factor_values() {
-    if (!cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, L_, &c_))
-      throw SolverError(failure("allocating the factor"));
+    if (!cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, L_, &c_)) throw SolverError(failure("allocating the factor"));
     double* x = static_cast<double*>(L_->x);
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(L_->xsize);
     constexpr std::ptrdiff_t per_page = 4096 / sizeof(double);
