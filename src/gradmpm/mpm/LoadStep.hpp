@@ -83,7 +83,11 @@ class LoadStep {
       all_cells_.resize(fbar_->members().size());
       for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
     }
-    tangent_ = make_pattern();  // after the constraints
+    // After the constraints. Swapped in: Eigen 3.4's SparseMatrix has no move assignment,
+    // and `tangent_ = make_pattern()` copied the pattern (36 MB at 1e5 dof in 2D, on new
+    // pages where the step's pattern is larger than any before).
+    SparseMatrix pattern = make_pattern();
+    tangent_.swap(pattern);
     if (split_) halo_ = RowHalo(dofs_.rank_rows(), touched_rows(tangent_), dofs_.global_rows());
     // Eq. (1) at the step's end, scattered by strips on the threads (serially 8 ms per step
     // for 2e5 points in 2D).
