@@ -9,7 +9,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <thread>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -75,6 +79,59 @@ TEST(Parallel, SmallLoopsRunOnThreadsOnlyAboveTheThreshold) {
   EXPECT_EQ(team_sizes(), 1);  // below the threshold: serial
   Threads t(4);
   EXPECT_EQ(team_sizes(), 4);
+}
+
+// run_beside (core/Parallel.hpp), by which the Newton driver analyses the tangent's pattern
+// on one thread while the others assemble it: both jobs run, at the same time (each waits,
+// boundedly, to see the other started), the serial one on the calling thread, the other's
+// regions on the remaining threads; an exception of either comes out after both ran, the
+// work's first; with one thread, the work and then the serial job.
+TEST(Parallel, RunBesideRunsBothJobsAtOnceAndRethrowsAfterBoth) {
+  const auto wait_for = [](const std::atomic<bool>& flag) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!flag && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+    return flag.load();
+  };
+  {
+    Threads t(4);
+    std::atomic<bool> serial_started{false}, work_started{false};
+    bool serial_saw_work = false, work_saw_serial = false;
+    int serial_thread = -1, work_team = 0;
+    run_beside(
+        [&] {
+          serial_thread = omp_get_thread_num();
+          serial_started = true;
+          serial_saw_work = wait_for(work_started);
+        },
+        [&] {
+          work_started = true;
+          work_saw_serial = wait_for(serial_started);
+#pragma omp parallel
+#pragma omp single
+          work_team = omp_get_num_threads();
+        });
+    EXPECT_TRUE(serial_saw_work);
+    EXPECT_TRUE(work_saw_serial);
+    EXPECT_EQ(serial_thread, 0);
+    EXPECT_EQ(work_team, 3);
+    EXPECT_EQ(omp_get_max_threads(), 4);  // the caller's settings as they were
+    EXPECT_EQ(omp_get_level(), 0);
+
+    bool serial_ran = false, work_ran = false;
+    try {
+      run_beside([&] { serial_ran = true; throw std::runtime_error("serial"); },
+                 [&] { work_ran = true; throw std::runtime_error("work"); });
+      ADD_FAILURE() << "nothing rethrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "work");
+    }
+    EXPECT_TRUE(serial_ran && work_ran);
+    EXPECT_THROW(run_beside([] { throw std::runtime_error("serial"); }, [] {}), std::runtime_error);
+  }
+  Threads t(1);
+  std::vector<int> order;
+  run_beside([&] { order.push_back(2); }, [&] { order.push_back(1); });
+  EXPECT_EQ(order, (std::vector<int>{1, 2}));
 }
 
 TEST(Parallel, MpmSolutionEqualsSerialSolution) {

@@ -126,12 +126,16 @@ class CholmodSolver final : public LinearSolver {
   std::string name() const override { return "cholmod"; }
   bool general() const override { return false; }
   void describe(const SystemDescription& d) override { once_ = d.factorized_once; }
+  /// The analysis (AMD, METIS where CHOLMOD's rule tries it, the symbolic factorisation,
+  /// S's pattern) has no OpenMP region and no BLAS call in CHOLMOD 3 (SuiteSparse 5.12:
+  /// the only ones are in the numeric factorisation), and reads a compressed matrix's
+  /// pattern only (an uncompressed one is copied whole).
+  bool analysis_reads_pattern_only() const override { return true; }
 
  protected:
   void do_analyze(const SparseMatrix& given) override {
     const SparseMatrix& A = compressed(given);
-    CholmodThreadCap guard;
-    release();
+    release();  // (no CholmodThreadCap: nothing here runs threads; analysis_reads_pattern_only)
     cholmod_sparse view = upper_view(A, const_cast<double*>(A.valuePtr()));
     // CHOLMOD's default: AMD, then METIS too when AMD's factor is costly (flops >= 500
     // nnz(L), nnz(L) >= 5 nnz(A)), the one with fewer flops kept: right for the Newton

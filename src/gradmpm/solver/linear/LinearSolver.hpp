@@ -72,6 +72,10 @@ class LinearSolver {
   virtual long iterations() const { return 0; }
   /// Entries of the factor from the last analysis (a direct solver's fill; 0 where not known).
   virtual double factor_nonzeros() const { return 0.0; }
+  /// true: analyze() reads the matrix's pattern only (not its values) and makes no OpenMP
+  /// region, BLAS or MPI call, so it may run on one thread while other threads assemble
+  /// the values (run_beside, core/Parallel.hpp). Default: false.
+  virtual bool analysis_reads_pattern_only() const { return false; }
 
   /// The fill-reducing ordering of the last analysis: the equations in the order they are
   /// eliminated (empty: none, as for iterative solvers, or not analysed yet).
