@@ -62,6 +62,38 @@ TEST(Parallel, AssemblyEqualsSerialAssembly) {
   EXPECT_GT(a.lpNorm<Eigen::Infinity>(), 0.0);
 }
 
+// The strips' runs (points of one stencil, found once when the strips are built) hold the
+// points of one stencil each, every point once, and a matrix assembled by them equals the
+// point-by-point sum (to round-off: the order of the additions differs).
+TEST(Parallel, RunsOfTheStripsHoldOneStencilAndGiveThePointByPointSum) {
+  const Model<2> m = make_column<2>(12, BasisKind::CPGIMP);  // 2 points per cell and direction
+  const auto st = evaluate_stencils(m.grid, m.points, BasisKind::MPM);
+  const DofMap dofs(st, m.grid.num_nodes(), 1);
+  const Assembler<2> as(st, m.points, dofs, &m.grid);
+  std::vector<int> visits(m.points.size(), 0);
+  int runs = 0;
+  as.for_each_run([&](const int* first, const int* last) {
+    ++runs;
+    for (const int* p = first; p != last; ++p) {
+      ++visits[*p];
+      EXPECT_EQ(st[*p].count, st[*first].count);
+      for (int a = 0; a < st[*p].count; ++a) EXPECT_EQ(st[*p].node[a], st[*first].node[a]);
+    }
+  });
+  EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), m.points.size());
+  EXPECT_EQ(runs * 4, m.points.size());  // the 4 points of a cell share its 4 nodes (linear basis)
+  SparseMatrix M = build_pattern(st, dofs);
+  as.add_mass(M);
+  const int n = dofs.num_dofs();
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(n, n);
+  for (int p = 0; p < m.points.size(); ++p)
+    for (int a = 0; a < st[p].count; ++a)
+      for (int b = 0; b < st[p].count; ++b)
+        expected(dofs.dof(st[p].node[a], 0), dofs.dof(st[p].node[b], 0)) +=
+            st[p].N[a] * st[p].N[b] * m.points.volume[p];
+  EXPECT_LT((Eigen::MatrixXd(M) - expected).norm(), 1e-14 * expected.norm());
+}
+
 TEST(Parallel, SmallLoopsRunOnThreadsOnlyAboveTheThreshold) {
   const Model<2> m = make_column<2>(16, BasisKind::CPGIMP);
   const auto st = evaluate_stencils(m.grid, m.points, BasisKind::CPGIMP);

@@ -57,21 +57,27 @@ class Assembler {
 
   /// Calls f(first, last) for each run [first, last) of consecutive points with the same
   /// stencil nodes, concurrently for runs of disjoint nodes as above.
+  /// The runs of the strips are found once (build_strips: run_length_): finding them here
+  /// compared the stencils of points in bucket order, which lie apart in memory, and the
+  /// loads it waited for were most of the internal force's scatter (perf, 1e5 dof in 2D).
   template <class F>
   void for_each_run(F&& f) const {
-    auto runs = [&](const int* p, const int* end) {
+    if (!in_strips_) {
+      const int* p = subset_.data();
+      const int* end = p + subset_.size();
       while (p != end) {
         const int* q = p + 1;
         while (q != end && same_nodes(st_[*p], st_[*q])) ++q;
         f(p, q);
         p = q;
       }
-    };
-    if (!in_strips_) {
-      runs(subset_.data(), subset_.data() + subset_.size());
       return;
     }
-    for_each_bucket(runs);
+    const int* order = order_.data();
+    const int* length = run_length_.data();
+    for_each_bucket([&](const int* first, const int* last) {
+      for (const int* p = first; p != last; p += length[p - order]) f(p, p + length[p - order]);
+    });
   }
 
   /// A += sum_p K_p, where kernel(p, stencil, Ke) adds the local matrix of point p into Ke
@@ -273,9 +279,17 @@ class Assembler {
                                           t.node.begin() + t.count);
     };
     const int nb = static_cast<int>(bucket_start_.size()) - 1;
+    run_length_.assign(np, 0);
 #pragma omp parallel for schedule(static) if (use_threads(np))
-    for (int b = 0; b < nb; ++b)
+    for (int b = 0; b < nb; ++b) {
       std::stable_sort(order_.begin() + bucket_start_[b], order_.begin() + bucket_start_[b + 1], before);
+      for (int k = bucket_start_[b]; k < bucket_start_[b + 1];) {  // the bucket's runs (for_each_run)
+        int end = k + 1;
+        while (end < bucket_start_[b + 1] && same_nodes(st_[order_[k]], st_[order_[end]])) ++end;
+        run_length_[k] = end - k;
+        k = end;
+      }
+    }
     in_strips_ = true;
   }
 
@@ -305,6 +319,9 @@ class Assembler {
   std::vector<int> subset_;  ///< every point, in index order (an assembler without strips runs over it)
   bool in_strips_ = false;
   std::vector<int> strip_start_, bucket_start_, order_;  ///< build_strips(): strip -> buckets -> points
+  /// build_strips(): at the position in order_ where a run of points with the same stencil
+  /// nodes begins, its length (0 elsewhere); runs do not cross buckets
+  std::vector<int> run_length_;
   std::array<std::vector<int>, 2> strips_of_parity_;     ///< build_strips(): the even strips, the odd strips
 };
 
