@@ -15,9 +15,17 @@
 //     through the grid nodes (NewtonSettings::reuse_ordering): the footing, whose points
 //     move through the grid, computes fewer orderings than analyses, and its answer is
 //     the one with an ordering computed at every analysis, to round-off.
+//  R8 an iterate at which a material update fails (NaN stress: F-bar's scaled increment at
+//     a point squeezed to dJ = 5e-9 did so in the biaxial example) is never taken as
+//     converged: it is backtracked like an inverted point, and a step that finds no finite
+//     iterate is cut; when the cuts are exhausted the run stops with SolverError saying so
+//     and the points keep the last converged state. (A NaN internal force gave the
+//     relative residual 0 and was accepted; the run went on with NaN states.)
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -100,6 +108,52 @@ TEST(MpmNewton, ExhaustedCutsStopWithTheLastConvergedState) {
     EXPECT_NE(std::string(e.what()).find("after 1 cut(s)"), std::string::npos) << e.what();
   }
   EXPECT_EQ(m.points.position, before);
+}
+
+namespace {
+/// A law whose update fails (NaN stress) wherever its strain is not zero: Hencky's
+/// otherwise.
+class FailingUpdate final : public Material {
+ public:
+  explicit FailingUpdate(std::shared_ptr<const Material> inner)
+      : Material(inner->elasticity(), inner->density()), inner_(std::move(inner)) {}
+  std::string model() const override { return "failing-update"; }
+  bool finite_strain() const override { return inner_->finite_strain(); }
+  const std::vector<StateVariable>& state_variables() const override { return inner_->state_variables(); }
+  void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override {
+    inner_->update(dF, state_n, state, out);
+    if (inner_->elastic_strain(state).norm() > 0.0) out.stress.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+  void tangent(const MaterialResponse& r, int dim, Mat9& A) const override { inner_->tangent(r, dim, A); }
+  Mat3 elastic_strain(const double* state) const override { return inner_->elastic_strain(state); }
+
+ private:
+  std::shared_ptr<const Material> inner_;
+};
+}  // namespace
+
+TEST(MpmNewton, AnIterateWithAFailedMaterialUpdateIsNeverTakenAsConverged) {  // R8
+  // No external force: the column's top is pushed down (as the biaxial example's platen),
+  // so that the forces' scale is the internal force's alone.
+  Model<2> m = make_column<2>(8, BasisKind::CPGIMP);
+  m.materials[0] = std::make_shared<FailingUpdate>(m.materials[0]);
+  m.gravity.setZero();
+  for (int node = 0; node < m.grid.num_nodes(); ++node)
+    if (m.grid.node_ijk(node)[1] == m.grid.cells()[1]) m.constraints.push_back({node, 1, -0.01});
+  NewtonSettings s;
+  s.load_steps = 2;
+  s.max_cuts = 2;
+  const auto before = m.points.position;
+  StepInfo last;
+  try {
+    run_quasi_static<2>(m, s, [&](const Model<2>&, const StepInfo& info) { last = info; });
+    FAIL() << "expected SolverError; the last step's residuals end with " << last.residuals.back();
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("load step 1 failed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("internal force is not finite"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(m.points.position, before);
+  for (int p = 0; p < m.points.size(); ++p) EXPECT_TRUE(m.points.stress[p].allFinite());
 }
 
 TEST(MpmNewton, PointsLeavingTheGridAreListed) {

@@ -164,7 +164,7 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
     // Backtracking to admissibility: a Newton correction that inverts a point (det dF <=
-    // 0) is halved, on the free dofs only (the prescribed increments stay as they are),
+    // 0), or at which a material update fails (a non-finite internal force), is halved, on the free dofs only (the prescribed increments stay as they are),
     // up to kHalvings times before the step fails. Far from the solution (the first
     // iterates of a step that starts a mechanism) the full correction can overshoot by
     // far more than the increment itself; the step need not be cut for that.
@@ -172,22 +172,32 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
     Vector r;
     double err = 0.0, absolute = 0.0;
     for (int halving = 0;; ++halving) {
+      std::string failure;
       try {
         step.internal_force(du, f_int);
-      } catch (const StepFailure&) {
-        if (it == 0 || halving == kHalvings) throw;
-        correction_free *= 0.5;
-        du -= correction_free;
-        ++info.backtracks;
-        continue;
+      } catch (const StepFailure& f) {
+        failure = f.reason;
       }
-      r = step.f_ext() - f_int;
-      for (int c : step.constrained()) r[c] = 0.0;
-      const auto [f_ext_norm, f_int_norm, r_norm] = step.norms(f_int, r);  // (one reduction over the ranks)
-      const double scale = std::max(f_ext_norm, f_int_norm);
-      absolute = r_norm;
-      err = scale > 0.0 ? r_norm / scale : 0.0;
-      break;
+      if (failure.empty()) {
+        r = step.f_ext() - f_int;
+        for (int c : step.constrained()) r[c] = 0.0;
+        const auto [f_ext_norm, f_int_norm, r_norm] = step.norms(f_int, r);  // (one reduction over the ranks)
+        // A material update that failed at a distorted iterate (NaN stress; e.g. F-bar's
+        // dF scaled by (dJbar / dJ)^(1/dim) at a point squeezed to dJ = 5e-9) makes the
+        // norms NaN on every rank. Caught here: std::max(0, NaN) is 0, and the relative
+        // residual below was then 0, a NaN state taken as converged.
+        if (std::isfinite(f_ext_norm) && std::isfinite(f_int_norm) && std::isfinite(r_norm)) {
+          const double scale = std::max(f_ext_norm, f_int_norm);
+          absolute = r_norm;
+          err = scale > 0.0 ? r_norm / scale : 0.0;
+          break;
+        }
+        failure = "the internal force is not finite (a material update failed at this iterate)";
+      }
+      if (it == 0 || halving == kHalvings) throw StepFailure{failure};
+      correction_free *= 0.5;
+      du -= correction_free;
+      ++info.backtracks;
     }
     times.assembly += seconds_since(t0);
     if (it == 0 && !applied) {  // the prescribed increments are not applied yet: that is out of balance too
