@@ -30,7 +30,9 @@
 // gradient_s is one e-RA smoothing of the strain (6 components) after the step.
 // peak_mib is the process's peak resident memory so far (sizes grow, so it is this size's).
 // wall_s is the whole load step's wall time per Newton iteration (its cuts included): the
-// phases plus what no phase counts (the Dirichlet elimination, residual norms, copies).
+// phases plus what no phase counts (the Dirichlet elimination, residual norms, copies),
+// less what ran at the same time: with CHOLMOD the step's analysis runs on one thread
+// while the others assemble its first tangent (run_beside), and both phases count it.
 // ratio = (wall - factor - solve) / (factor + solve): everything that is not the numeric
 // factorisation and solve, against them (before issue 13's last session: the phases
 // pattern + assembly + analysis + update only, which left the uncounted work out).

@@ -156,6 +156,11 @@ struct NewtonSettings {
   /// (then it orders afresh): the ordering (AMD, METIS) is most of an analysis. The
   /// answer is the same to round-off (off only to test that).
   bool reuse_ordering = true;
+  /// Where a load step's symbolic analysis runs: on the calling thread beside its first
+  /// tangent's assembly on the other threads where the last measured analysis and
+  /// tangent say it pays (Measured), always there (Always), or after the assembly (Never).
+  /// The answer is the same to the bit (Always and Never only to test that).
+  enum class AnalysisBeside { Measured, Always, Never } analysis_beside = AnalysisBeside::Measured;
   LinearSolverSettings linear_solver;
 };
 
@@ -171,6 +176,7 @@ struct PhaseTimes {
   int iterations = 0;   ///< Newton iterations (linear solves)
   int analyses = 0;     ///< symbolic analyses (0 in a step whose pattern the previous step had)
   int orderings = 0;    ///< of which with an ordering computed afresh (the others took the previous step's)
+  int beside = 0;       ///< of which beside the first tangent's assembly (NewtonSettings::analysis_beside)
   long krylov = 0;      ///< Krylov iterations of those solves (an iterative linear solver; 0 for a direct one)
   PhaseTimes& operator+=(const PhaseTimes& o) {
     pattern += o.pattern;
@@ -183,6 +189,7 @@ struct PhaseTimes {
     iterations += o.iterations;
     analyses += o.analyses;
     orderings += o.orderings;
+    beside += o.beside;
     krylov += o.krylov;
     return *this;
   }

@@ -34,6 +34,9 @@ struct StepSolvers {
   bool general_analysed = false;                ///< general's analysis, for this step's pattern
   bool described = false;                       ///< describe() called with this step
   std::vector<int> outer, inner;                ///< the pattern main's analysis was made for
+  /// Seconds of main's last analysis and of the last tangent assembled on all threads
+  /// (0: none yet): whether the next analysis pays to run beside a tangent (beside()).
+  double analysis_seconds = 0.0, tangent_seconds = 0.0;
 
   /// A new load step (or a new attempt of one).
   void start_step() { analysed = described = general_analysed = false; }
@@ -76,8 +79,26 @@ struct StepSolvers {
   }
 };
 
-/// The symbolic analysis of the tangent's pattern (A's values are not read), unless the
-/// solver's analysis was made for this pattern (an earlier step's). The previous step's
+/// Whether the symbolic analysis of A's pattern runs beside the tangent's assembly
+/// (run_beside: the analysis on this thread, the assembly on the others). It pays where
+/// an analysis is to be made (not an earlier step's kept), the solver's reads the pattern
+/// only, and the tangent, assembled on one thread fewer, is expected to take no longer
+/// than the two one after the other: with T threads, when the tangent's time on all of
+/// them is below (T - 1) times the analysis's (the last of each, measured; none yet: no).
+/// NewtonSettings::analysis_beside can say always or never.
+/// At 1e5 dof in 2D on 2 threads the analysis takes twice a tangent's time; in 3D a
+/// tangent can take longer than the analysis.
+bool beside(const SparseMatrix& A, const LinearSolver& solver, const StepSolvers& solvers, bool share,
+            NewtonSettings::AnalysisBeside mode) {
+  using Mode = NewtonSettings::AnalysisBeside;
+  if (mode == Mode::Never || share || !solver.analysis_reads_pattern_only() || !A.isCompressed()) return false;
+  if (mode == Mode::Always) return true;
+  if (solvers.analysis_seconds <= 0.0 || solvers.tangent_seconds <= 0.0) return false;
+  return solvers.tangent_seconds < (max_threads() - 1) * solvers.analysis_seconds;
+}
+
+/// The symbolic analysis of the tangent's pattern (A's values are not read); the caller
+/// has checked that the solver's analysis was not made for this pattern (an earlier step's). The previous step's
 /// ordering is taken unless the pattern has grown or shrunk by more than a tenth (the
 /// first step's regular points against moved ones: another graph), or the factor it gives
 /// has more fill than a tenth above the last fresh ordering's (then the analysis is made
@@ -85,26 +106,25 @@ struct StepSolvers {
 void analyse(const SparseMatrix& A, const DofMap& dofs, LinearSolver& solver, StepSolvers& solvers,
              const NewtonSettings& settings, PhaseTimes& times) {
   const auto t0 = Clock::now();
-  if (!solvers.analysed_for(A)) {
-    const double entries = static_cast<double>(A.nonZeros());
-    CarriedOrdering& carried = solvers.carried;
-    bool taken = settings.reuse_ordering && std::abs(entries - carried.entries) <= 0.1 * carried.entries &&
-                 solvers.take_ordering(dofs, solver);
-    solver.analyze(A);
+  const double entries = static_cast<double>(A.nonZeros());
+  CarriedOrdering& carried = solvers.carried;
+  bool taken = settings.reuse_ordering && std::abs(entries - carried.entries) <= 0.1 * carried.entries &&
+               solvers.take_ordering(dofs, solver);
+  solver.analyze(A);
+  ++times.analyses;
+  carried.entries = entries;
+  if (taken && solver.factor_nonzeros() > 1.1 * carried.fill * entries) {
+    solver.analyze(A);  // a poor fit (points moved far, material entered new cells): afresh
     ++times.analyses;
-    carried.entries = entries;
-    if (taken && solver.factor_nonzeros() > 1.1 * carried.fill * entries) {
-      solver.analyze(A);  // a poor fit (points moved far, material entered new cells): afresh
-      ++times.analyses;
-      taken = false;
-    }
-    if (!taken) {
-      ++times.orderings;
-      carried.fill = solver.factor_nonzeros() / entries;
-    }
-    if (settings.reuse_ordering) solvers.remember_ordering(dofs, solver);
-    if (settings.reuse_analysis && !solver.iterative()) solvers.remember_pattern(A);
+    taken = false;
   }
+  if (!taken) {
+    ++times.orderings;
+    carried.fill = solver.factor_nonzeros() / entries;
+  }
+  if (settings.reuse_ordering) solvers.remember_ordering(dofs, solver);
+  if (settings.reuse_analysis && !solver.iterative()) solvers.remember_pattern(A);
+  solvers.analysis_seconds = seconds_since(t0);
   times.analysis += seconds_since(t0);
 }
 
@@ -224,15 +244,20 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
       throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
     SparseMatrix* tangent = nullptr;
     DirichletElimination bc;
+    bool on_all_threads = true;  // (false: beside the analysis)
     const auto assemble = [&] {  // only when another iteration follows
       const auto t = Clock::now();
       tangent = &step.stiffness(share);
-      times.assembly += seconds_since(t);
+      const double seconds = seconds_since(t);
+      times.assembly += seconds;
+      if (on_all_threads) solvers.tangent_seconds = seconds;
       bc.apply_to_matrix(*tangent, step.constrained(), &step.halo(), true);  // make_pattern(): cliques, symmetric
     };
-    const auto analyse_once = [&] {  // the pattern is fixed within the load step
-      if (solvers.analysed) return;
-      analyse(step.pattern(), step.dofs(), *solver, solvers, settings, times);
+    // The pattern is fixed within the load step: analysed at its first tangent, unless
+    // the solver's analysis was made for it (an earlier step's, kept).
+    const bool analysis_due = !solvers.analysed && !solvers.analysed_for(step.pattern());
+    const auto analyse_once = [&] {
+      if (analysis_due) analyse(step.pattern(), step.dofs(), *solver, solvers, settings, times);
       solvers.analysed = true;
     };
     const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
@@ -244,13 +269,15 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
       return exact;
     };
     try {
-      // The symbolic analysis reads the pattern only, serially: where the solver allows
-      // it, on this thread while the others assemble the step's first tangent into the
+      // The symbolic analysis reads the pattern only, serially: where it pays (beside()),
+      // on this thread while the others assemble the step's first tangent into the
       // pattern's values (a core idled through the analysis: 0.08 s of a load step at 1e5
       // dof in 2D). The same analysis and tangent either way.
-      if (!solvers.analysed && solver->analysis_reads_pattern_only() && !share && step.pattern().isCompressed())
+      if (analysis_due && beside(step.pattern(), *solver, solvers, share, settings.analysis_beside)) {
+        on_all_threads = false;
+        ++times.beside;
         run_beside(analyse_once, assemble);
-      else {
+      } else {
         assemble();
         analyse_once();
       }
