@@ -38,7 +38,8 @@
 // pattern + assembly + analysis + update only, which left the uncounted work out).
 // Under mpirun (R ranks, the `ranks` column) the figures are rank 0's: its phases include
 // its waits in the sums over the ranks, so they show the slowest rank's pace; peak_mib is
-// rank 0's process (each rank makes and holds its own points); `points` is the body's. Only rank 0 prints and writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
+// rank 0's process (each rank makes and holds its own points); `points` is the body's.
+// Only rank 0 prints and writes the CSV. PETSc's own profile: PETSC_OPTIONS=-log_view.
 // "with gradient" adds a gradient step after the load step (apply = "each_step"), shared
 // out over the step's iterations, its factorisation and solves counted with the solver's.
 // nonlocal_s is the regularisation's own work per Newton iteration (the kappa_bar

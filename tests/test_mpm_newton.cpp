@@ -24,9 +24,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <memory>
-#include <iostream>
 
 #include <fmt/format.h>
 

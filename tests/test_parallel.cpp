@@ -151,8 +151,15 @@ TEST(Parallel, RunBesideRunsBothJobsAtOnceAndRethrowsAfterBoth) {
 
     bool serial_ran = false, work_ran = false;
     try {
-      run_beside([&] { serial_ran = true; throw std::runtime_error("serial"); },
-                 [&] { work_ran = true; throw std::runtime_error("work"); });
+      run_beside(
+          [&] {
+            serial_ran = true;
+            throw std::runtime_error("serial");
+          },
+          [&] {
+            work_ran = true;
+            throw std::runtime_error("work");
+          });
       ADD_FAILURE() << "nothing rethrown";
     } catch (const std::runtime_error& e) {
       EXPECT_STREQ(e.what(), "work");

@@ -86,8 +86,8 @@ struct StepSolvers {
 /// than the two one after the other: with T threads, when the tangent's time on all of
 /// them is below (T - 1) times the analysis's (the last of each, measured; none yet: no).
 /// NewtonSettings::analysis_beside can say always or never.
-/// At 1e5 dof in 2D on 2 threads the analysis takes twice a tangent's time; in 3D a
-/// tangent can take longer than the analysis.
+/// At 1e5 dof in 2D on 2 threads the analysis takes two to three times a tangent's time;
+/// where a tangent takes longer than twice the analysis (2 threads), the analysis follows it.
 bool beside(const SparseMatrix& A, const LinearSolver& solver, const StepSolvers& solvers, bool share,
             NewtonSettings::AnalysisBeside mode) {
   using Mode = NewtonSettings::AnalysisBeside;
@@ -184,8 +184,9 @@ Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& 
   for (int it = 0;; ++it) {
     auto t0 = Clock::now();
     // Backtracking to admissibility: a Newton correction that inverts a point (det dF <=
-    // 0), or at which a material update fails (a non-finite internal force), is halved, on the free dofs only (the prescribed increments stay as they are),
-    // up to kHalvings times before the step fails. Far from the solution (the first
+    // 0), or at which a material update fails (a non-finite internal force), is halved,
+    // on the free dofs only (the prescribed increments stay as they are), up to
+    // kHalvings times before the step fails. Far from the solution (the first
     // iterates of a step that starts a mechanism) the full correction can overshoot by
     // far more than the increment itself; the step need not be cut for that.
     constexpr int kHalvings = 8;
