@@ -65,11 +65,9 @@ class Assembler {
     if (!in_strips_) {
       const int* p = subset_.data();
       const int* end = p + subset_.size();
-      while (p != end) {
-        const int* q = p + 1;
-        while (q != end && same_nodes(st_[*p], st_[*q])) ++q;
+      for (const int* q; p != end; p = q) {
+        q = run_end(p, end);
         f(p, q);
-        p = q;
       }
       return;
     }
@@ -283,14 +281,22 @@ class Assembler {
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int b = 0; b < nb; ++b) {
       std::stable_sort(order_.begin() + bucket_start_[b], order_.begin() + bucket_start_[b + 1], before);
-      for (int k = bucket_start_[b]; k < bucket_start_[b + 1];) {  // the bucket's runs (for_each_run)
-        int end = k + 1;
-        while (end < bucket_start_[b + 1] && same_nodes(st_[order_[k]], st_[order_[end]])) ++end;
-        run_length_[k] = end - k;
-        k = end;
+      const int* order = order_.data();
+      const int* last = order + bucket_start_[b + 1];
+      for (const int* p = order + bucket_start_[b]; p != last;) {  // the bucket's runs (for_each_run)
+        const int* q = run_end(p, last);
+        run_length_[p - order] = static_cast<int>(q - p);
+        p = q;
       }
     }
     in_strips_ = true;
+  }
+
+  /// The end of the run of points in [first, last) with the stencil nodes of *first.
+  const int* run_end(const int* first, const int* last) const {
+    const int* q = first + 1;
+    while (q != last && same_nodes(st_[*first], st_[*q])) ++q;
+    return q;
   }
 
   static bool same_nodes(const Stencil<dim>& s, const Stencil<dim>& t) {

@@ -226,20 +226,18 @@ class CholmodSolver final : public LinearSolver {
     for (int k = 0; k < nodes; ++k)
       for (int c = 0; c < bs; ++c) given_[bs * k + c] = bs * node_perm[k] + c;
     Analysis a = analyze_by(view, CHOLMOD_GIVEN);
-    // CHOLMOD's rule for METIS after AMD (cholmod_analyze_p2's default strategy).
+    // CHOLMOD's rule for METIS after AMD (cholmod_analyze_p2's default strategy: the
+    // ordering with fewer entries of L kept).
     const double anz = 0.5 * static_cast<double>(A.nonZeros() + A.rows());  // entries of tril(A)
-    if (a.L && a.flops >= 500.0 * a.lnz && a.lnz >= 5.0 * anz) {
-      Analysis other = analyze_by(view, CHOLMOD_METIS);
-      if (other.L && other.lnz < a.lnz) std::swap(a, other);
-      if (other.L) cholmod_free_factor(&other.L, &c_);
-    }
+    if (a.L && a.flops >= 500.0 * a.lnz && a.lnz >= 5.0 * anz) keep_cheaper(a, view, CHOLMOD_METIS, &Analysis::lnz);
     return a;
   }
 
-  /// Analyses by `method` too and keeps, of the two, the factor with fewer flops.
-  void keep_cheaper(Analysis& kept, cholmod_sparse& view, int method) {
+  /// Analyses by `method` too and keeps, of the two, the factor with less of `cost`
+  /// (flops by default; CHOLMOD's own rule compares the entries of L).
+  void keep_cheaper(Analysis& kept, cholmod_sparse& view, int method, double Analysis::*cost = &Analysis::flops) {
     Analysis other = analyze_by(view, method);
-    if (other.L && (!kept.L || other.flops < kept.flops)) std::swap(kept, other);
+    if (other.L && (!kept.L || other.*cost < kept.*cost)) std::swap(kept, other);
     if (other.L) cholmod_free_factor(&other.L, &c_);
   }
 
