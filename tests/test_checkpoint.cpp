@@ -24,6 +24,9 @@
 //     values per point) and only those, in increasing id; a point in two files or an
 //     array that does not hold the same number of values per point is refused.
 //     (Restarts on other numbers of ranks: Mpi.CheckpointOfEachRanksPointsRestartsOnAnyNumberOfRanks.)
+//  R8 a checkpoint records the run's threads, and a restart with other threads says that
+//     it follows the uninterrupted run to round-off, not bit for bit (OpenBLAS splits its
+//     sums by threads: tests/test_threads.cpp R2b); one with the same threads says nothing.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -232,6 +235,23 @@ TEST_F(CheckpointCli, TheGradientFieldsCarriedAtThePointsContinueBitForBit) {
     ASSERT_TRUE(fs::exists(dir / "whole" / "points_gradient.csv"));
     EXPECT_EQ(first_difference(dir / "whole", dir / "restarted"), "") << variant;
   }
+}
+
+TEST_F(CheckpointCli, ARestartWithOtherThreadsSaysItContinuesToRoundOffOnly) {
+  const std::string args = "run " + example("footing_2d.toml") + " --set output.checkpoint_every=10";
+  ASSERT_EQ(run_gradmpm(args + " -q --threads 2 --out " + (dir / "a").string()).code, 0);
+  const std::string from = " --restart " + (dir / "a.checkpoints" / "step_000030").string();
+  const CliResult other = run_gradmpm(args + " --threads 1 --out " + (dir / "one").string() + from);
+  ASSERT_EQ(other.code, 0) << other.err;
+  EXPECT_NE(other.out.find("written with 2 thread(s), this run has 1: the answer follows the uninterrupted run's to "
+                           "round-off, not bit for bit"),
+            std::string::npos)
+      << other.out;
+  const CliResult same = run_gradmpm(args + " --threads 2 --out " + (dir / "two").string() + from);
+  ASSERT_EQ(same.code, 0) << same.err;
+  EXPECT_NE(same.out.find("restarting from"), std::string::npos) << same.out;
+  EXPECT_EQ(same.out.find("thread(s), this run has"), std::string::npos) << same.out;
+  EXPECT_EQ(first_difference(dir / "a", dir / "two"), "");
 }
 
 TEST_F(CheckpointCli, ACheckpointOfAnotherCaseVersionOrKindIsRefused) {

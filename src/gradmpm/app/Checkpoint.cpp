@@ -176,13 +176,14 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
   return shown;
 }
 
-void put_checkpoint_header(Archive& a, const std::string& case_text, int dim, int step) {
+void put_checkpoint_header(Archive& a, const std::string& case_text, int dim, int step, int threads) {
   a.put_text("format", kFormat);
   a.put_integer("format_version", kFormatVersion);
   a.put_text("program", kProgram);
   a.put_text("case", case_text);
   a.put_integer("dimension", dim);
   a.put_integer("step", step);
+  a.put_integer("threads", threads);
 }
 
 Restart read_checkpoint(const fs::path& path, const std::string& case_text, int dim) {
@@ -209,6 +210,7 @@ Restart read_checkpoint(const fs::path& path, const std::string& case_text, int 
                     where, first_difference(a.text("case"), case_text)));
   if (!fs::is_directory(r.outputs))
     throw InputError(fmt::format("{}: its outputs folder {} is missing", where, r.outputs.string()));
+  if (a.has("threads")) r.threads = static_cast<int>(a.integer("threads"));
   return r;
 }
 

@@ -69,6 +69,7 @@ struct Restart {
   Archive archive;                ///< checkpoint.h5 (a distributed run's points are in their own files)
   std::filesystem::path folder;   ///< the step_NNNNNN folder
   std::filesystem::path outputs;  ///< its output files, to start the restarted run's folder from
+  int threads = 0;                ///< the threads of the run that wrote it (0: not recorded)
 };
 
 /// Reads `path` (a step_NNNNNN folder or its checkpoint.h5) and checks that it belongs to
@@ -76,8 +77,10 @@ struct Restart {
 /// throws InputError naming what differs.
 Restart read_checkpoint(const std::filesystem::path& path, const std::string& case_text, int dim);
 
-/// The header every checkpoint starts with: format, program version, case text, dimension.
-void put_checkpoint_header(Archive& a, const std::string& case_text, int dim, int step);
+/// The header every checkpoint starts with: format, program version, case text, dimension,
+/// step, and the run's threads (a restart with other threads is told it continues to
+/// round-off, not bit for bit: docs/reliability.md).
+void put_checkpoint_header(Archive& a, const std::string& case_text, int dim, int step, int threads);
 
 /// The driver's state into `a` and the model's points (every array, every state variable,
 /// the stages' per-point arrays, the points' ids) into `a` serially or into `points`, this

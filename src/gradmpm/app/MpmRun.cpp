@@ -345,9 +345,17 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     pvd_points = get_series(a, "outputs/points_pvd");
     pvd_grid = get_series(a, "outputs/grid_pvd");
     if (writes) link_files(restart->outputs, dir);
-    if (!quiet)
+    if (!quiet) {
       fmt::print("  restarting from {}: step {}, load factor {:.6g}\n", options.restart.string(), start.summary.steps,
                  start.load_factor);
+      // OpenBLAS splits a factorisation's products by its threads: other threads, other
+      // last bits (docs/reliability.md, tests/test_threads.cpp R2b).
+      if (restart->threads > 0 && restart->threads != omp_get_max_threads())
+        fmt::print(
+            "  note: the checkpoint was written with {} thread(s), this run has {}: the answer follows the "
+            "uninterrupted run's to round-off, not bit for bit (the BLAS sums in another order)\n",
+            restart->threads, omp_get_max_threads());
+    }
   }
   // A distributed run: from here on each rank holds the points in its cells (and the
   // gradient step their fields), the outputs gather what they need.
@@ -385,7 +393,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
             // A distributed run's ranks write their points each (no rank holds every
             // point), rank 0 the rest; every rank goes on once the checkpoint is in place.
             Archive a, points;
-            put_checkpoint_header(a, case_text, dim, info.step);
+            put_checkpoint_header(a, case_text, dim, info.step, omp_get_max_threads());
             save_run_state<dim>(a, points, m, info.after, stages);
             save_outputs(a);
             const auto t_write = Clock::now();
