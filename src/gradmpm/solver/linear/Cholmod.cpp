@@ -8,8 +8,8 @@
 // triangle or two of a lower one (Eigen passes the lower): a count pass and a fill pass
 // over the matrix each. The pattern, and with it S's, is fixed from one analysis to the
 // next, so the analysis here forms S once with the source position of each of its
-// entries in A's value array, and each factorisation fills S's values by that list (one
-// gather) and calls cholmod_super_numeric, which is what cholmod_factorize calls after
+// entries in A's value array (permuted_lower), and each factorisation fills S's values by
+// that list (one gather) and calls cholmod_super_numeric, which is what cholmod_factorize calls after
 // its transposes (Eigen's settings: supernodal, the factor kept as computed).
 #include <amd.h>
 #include <cholmod.h>
@@ -166,20 +166,42 @@ class CholmodSolver final : public LinearSolver {
     lnz_ = a.lnz;
     given_.clear();
     if (!L_) throw SolverError(failure("symbolic analysis"));
-    // S = tril(P A P') with each entry's value the entry's position in A's values (exact
-    // in a double up to 2^53): the same transpose cholmod_factorize would make.
-    if (position_.size() != static_cast<std::size_t>(A.nonZeros())) {
-      position_.resize(static_cast<std::size_t>(A.nonZeros()));
-      std::iota(position_.begin(), position_.end(), 0.0);
-    }
-    view.x = position_.data();
-    S_ = cholmod_ptranspose(&view, 2, static_cast<int*>(L_->Perm), nullptr, 0, &c_);
-    if (!S_) throw SolverError(failure("permuting the matrix"));
-    const int* Sp = static_cast<const int*>(S_->p);
-    const double* Sx = static_cast<const double*>(S_->x);
-    source_.resize(static_cast<std::size_t>(Sp[S_->ncol]));
-    for (std::size_t k = 0; k < source_.size(); ++k) source_[k] = static_cast<int>(Sx[k]);
+    permuted_lower(A, static_cast<const int*>(L_->Perm));
     nonzeros_ = A.nonZeros();
+  }
+
+  /// S_ = tril(P A P') (P: the factor's ordering) as a pattern, and source_: the position in
+  /// A's values of each of S_'s entries. A's upper triangle (column j, rows i <= j) is
+  /// read twice: to count the entries of each column of S_, then to place them. The
+  /// entries that cholmod_factorize's transpose would make (A(i, j) goes to column
+  /// min(p(i), p(j)), row max), each column's rows in another order, which
+  /// cholmod_super_numeric does not need (it assigns each entry to its place in L). Until
+  /// 2026-12-06 CHOLMOD's transpose made S_ from the positions written as doubles (an array
+  /// of 8 bytes per entry of A kept for it, 24 MB at 1e5 dof in 2D).
+  void permuted_lower(const SparseMatrix& A, const int* perm) {
+    const int n = static_cast<int>(A.rows());
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    std::vector<int> inverse(n), next(n + 1, 0);
+    for (int k = 0; k < n; ++k) inverse[perm[k]] = k;
+    for (int j = 0; j < n; ++j)
+      for (int k = outer[j]; k < outer[j + 1]; ++k)
+        if (inner[k] <= j) ++next[std::min(inverse[inner[k]], inverse[j]) + 1];
+    std::partial_sum(next.begin(), next.end(), next.begin());  // next[c]: column c's first place
+    const std::size_t entries = static_cast<std::size_t>(next[n]);
+    S_ = cholmod_allocate_sparse(n, n, entries, 0, 1, -1, CHOLMOD_REAL, &c_);
+    if (!S_) throw SolverError(failure("permuting the matrix"));
+    std::copy(next.begin(), next.end(), static_cast<int*>(S_->p));
+    int* Si = static_cast<int*>(S_->i);
+    source_.resize(entries);
+    for (int j = 0; j < n; ++j)
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const int i = inner[k];
+        if (i > j) continue;
+        const int r = inverse[i], c = inverse[j], at = next[std::min(r, c)]++;
+        Si[at] = std::max(r, c);
+        source_[static_cast<std::size_t>(at)] = k;
+      }
   }
 
   /// A symbolic factorisation and what its factor costs.
@@ -323,8 +345,6 @@ class CholmodSolver final : public LinearSolver {
   mutable cholmod_common c_;  ///< CHOLMOD's settings, statistics and workspace (a solve uses it too)
   cholmod_factor* L_ = nullptr;
   cholmod_sparse* S_ = nullptr;  ///< tril(P A P'): its pattern from the analysis, its values from A
-  /// 0, 1, 2, ...: the values the analysis's transpose carries (kept: no new pages per step)
-  std::vector<double> position_;
   std::vector<int> source_;    ///< S_'s k-th value is A's value source_[k]
   std::vector<int> given_;     ///< order_by: the ordering the next analysis takes
   bool compare_ = false;       ///< order_by: given_ is compared with AMD's ordering
