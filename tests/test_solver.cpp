@@ -8,7 +8,8 @@
 // solver defined only in this test joins the registry with one call (recipe "add a linear
 // solver"), CHOLMOD takes another solver's ordering when told (order_like), keeps an
 // ordering it is asked to compare only where its factor is cheaper, and spends less on the
-// ordering of a system factorised once, and CHOLMOD leaves the caller's OpenMP settings as
+// ordering of a system factorised once, factorises again on its analysis after its factor
+// was released, and CHOLMOD leaves the caller's OpenMP settings as
 // they were and runs its serial OpenMP regions as plain calls (SerialOpenMpRegions), which
 // changes no other region.
 #include <gtest/gtest.h>
@@ -552,6 +553,29 @@ TEST(LinearSolver, CholmodLeavesTheCallersOpenMpSettingsAsTheyWere) {
   omp_set_num_threads(threads);
   omp_set_dynamic(dynamic);
   omp_set_max_active_levels(levels);
+}
+
+// Requirement: a released factor (LinearSolver::release_factor, called by the Newton driver
+// once a load step has converged) is never solved with, and the next factorisation of the
+// kept analysis gives the answer of one that was never released, bit for bit.
+TEST(LinearSolver, CholmodReleasesItsFactorAndFactorisesAgainOnItsAnalysis) {
+  const SparseMatrix A = test::laplacian_2d(60);
+  const Vector b = Vector::LinSpaced(A.rows(), -1.0, 2.0);
+  const auto kept = make_linear_solver(named("cholmod")), released = make_linear_solver(named("cholmod"));
+  kept->compute(A);
+  released->compute(A);
+  const double analysis = released->analysis_seconds();
+  released->release_factor();
+  EXPECT_THROW((void)released->solve(b), std::logic_error);
+  released->release_factor();  // twice: nothing more to free
+  SparseMatrix B = A;
+  B.coeffs() *= 2.0;  // new values on the same pattern
+  kept->factorize(B);
+  released->factorize(B);
+  EXPECT_EQ(released->analysis_seconds(), analysis) << "the analysis was kept";
+  const Vector x = released->solve(b);
+  EXPECT_TRUE(x == kept->solve(b));
+  EXPECT_LT((B * x - b).norm(), 1e-12 * b.norm());
 }
 
 // Requirement: CHOLMOD's OpenMP regions that run serially are plain calls, not libgomp

@@ -42,6 +42,12 @@ struct StepSolvers {
   void start_step() { analysed = described = general_analysed = false; }
   /// After a failed attempt nothing is kept: the factor may be in any state.
   void forget() { *this = StepSolvers{}; }
+  /// A converged step's factors are not solved with again: their memory goes to the
+  /// gradient step and the next step (the analyses stay, LinearSolver::release_factor).
+  void release_factors() {
+    if (main) main->release_factor();
+    if (general) general->release_factor();
+  }
   /// Whether main's analysis was made for A's pattern (remembered only for direct solvers:
   /// an iterative one sets up again with each step's coordinates).
   bool analysed_for(const SparseMatrix& A) const {
@@ -451,6 +457,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
         }
         info.phases.update = seconds_since(t0);
         step->release_newton_data();
+        solvers.release_factors();
         break;
       } catch (const StepFailure& f) {
         solvers.forget();

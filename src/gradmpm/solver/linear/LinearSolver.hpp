@@ -77,6 +77,14 @@ class LinearSolver {
   /// the values (run_beside, core/Parallel.hpp). Default: false.
   virtual bool analysis_reads_pattern_only() const { return false; }
 
+  /// Frees the numeric factor and keeps the analysis: solve() needs a factorize() again.
+  /// The Newton driver calls it once a load step has converged (its last factor is never
+  /// solved with again), so that the gradient step's systems and the next step's arrays
+  /// can take the factor's memory: a lower peak, and fewer first touches of new pages,
+  /// which are slow on the virtual machines we measure on (docs/performance.md).
+  /// Default: nothing freed.
+  virtual void release_factor() {}
+
   /// The fill-reducing ordering of the last analysis: the equations in the order they are
   /// eliminated (empty: none, as for iterative solvers, or not analysed yet).
   virtual std::vector<int> ordering() const { return {}; }
