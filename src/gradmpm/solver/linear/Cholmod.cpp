@@ -303,7 +303,7 @@ class CholmodSolver final : public LinearSolver {
 
   /// L's values freed (its pattern, ordering and S_'s pattern kept: the next
   /// factorisation allocates them again, allocate_factor_values).
-  void release_factor() override {
+  void do_release_factor() override {
     if (L_ && L_->xtype != CHOLMOD_PATTERN && L_->is_super)
       cholmod_change_factor(CHOLMOD_PATTERN, 1, 1, 1, 1, L_, &c_);  // cannot fail (CHOLMOD)
   }
@@ -322,8 +322,6 @@ class CholmodSolver final : public LinearSolver {
 
  private:
   Eigen::MatrixXd solve_dense(const double* b, Eigen::Index rows, Eigen::Index cols) const {
-    if (!L_ || L_->xtype == CHOLMOD_PATTERN)
-      throw std::logic_error("cholmod: solve without a factorisation (released by release_factor)");
     CholmodThreadCap guard;
     cholmod_dense B = dense_view(b, rows, cols);
     cholmod_dense* X = cholmod_solve(CHOLMOD_A, L_, &B, &c_);

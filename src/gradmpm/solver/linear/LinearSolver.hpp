@@ -77,13 +77,16 @@ class LinearSolver {
   /// the values (run_beside, core/Parallel.hpp). Default: false.
   virtual bool analysis_reads_pattern_only() const { return false; }
 
-  /// Frees the numeric factor and keeps the analysis: solve() needs a factorize() again.
-  /// The Newton driver calls it once a load step has converged (its last factor is never
-  /// solved with again), so that the gradient step's systems and the next step's arrays
-  /// can take the factor's memory: a lower peak, and fewer first touches of new pages,
-  /// which are slow on the virtual machines we measure on (docs/performance.md).
-  /// Default: nothing freed.
-  virtual void release_factor() {}
+  /// Frees the numeric factor and keeps the analysis: solve() needs a factorize() again
+  /// (a SolverError before it, whatever the solver). The Newton driver calls it once a
+  /// load step has converged (its last factor is never solved with again), so that the
+  /// gradient step's systems and the next step's arrays can take the factor's memory: a
+  /// lower peak, and fewer first touches of new pages, which are slow on the virtual
+  /// machines we measure on (docs/performance.md). What is freed: do_release_factor.
+  void release_factor() {
+    do_release_factor();
+    factorized_ = false;
+  }
 
   /// The fill-reducing ordering of the last analysis: the equations in the order they are
   /// eliminated (empty: none, as for iterative solvers, or not analysed yet).
@@ -123,6 +126,8 @@ class LinearSolver {
   /// Keeps `perm` (a permutation) for the next analysis; default: no ordering to take.
   virtual bool do_order_by(std::vector<int>&, bool /*compare*/) { return false; }
   virtual void do_factorize(const SparseMatrix& A) = 0;
+  /// release_factor's part: free the factor's values, keep the analysis. Default: nothing.
+  virtual void do_release_factor() {}
   virtual Vector do_solve(const Vector& b) const = 0;
   /// Default: column by column.
   virtual Eigen::MatrixXd do_solve(const Eigen::MatrixXd& B) const;
