@@ -35,6 +35,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("gradmpm ") + GRADMPM_VERSION);
   app.require_subcommand(1);
 
+  // An empty path is a mistake (a shell variable that was not set), never "the default".
+  const CLI::Validator non_empty(
+      [](const std::string& v) { return v.empty() ? std::string("expected a path, got an empty one") : std::string(); },
+      "PATH");
   gradmpm::RunOptions options;
   std::string case_file;
   CLI::App* run =
@@ -42,7 +46,8 @@ int main(int argc, char** argv) {
                          "Run the analysis a case file describes and write its outputs (CSV, plots) to DIR.\n"
                          "Exit codes: 0 success, 1 numerical or plotting failure, 2 bad input or unwritable output.");
   run->add_option("case", case_file, "TOML case file, e.g. examples/bar_bimaterial.toml")->required();
-  run->add_option("-o,--out", options.out, "output directory (created if needed; default out/<case name>)");
+  run->add_option("-o,--out", options.out, "output directory (created if needed; default out/<case name>)")
+      ->check(non_empty);
   run->add_option("-s,--set", options.overrides,
                   "override a case-file key, e.g. --set bar.elements=160 --set gradient.variant=e-RA\n"
                   "(repeatable; the value is read as TOML, or as a plain string)")
@@ -51,7 +56,8 @@ int main(int argc, char** argv) {
   run->add_option("--restart", options.restart,
                   "continue from a checkpoint (DIR.checkpoints/step_NNNNNN, written with output.checkpoint_every) of "
                   "the same case and --set options; the final outputs are the uninterrupted run's")
-      ->type_name("CHECKPOINT");
+      ->type_name("CHECKPOINT")
+      ->check(non_empty);
   int threads = 0;
   run->add_option("-j,--threads", threads,
                   "OpenMP threads of the point loops and the solvers (default: OMP_NUM_THREADS, else every core)")

@@ -1,5 +1,7 @@
 // Requirements on case files: typed keys with messages that name the file, the key and
 // what was expected; --set overrides any key; unknown sections and keys are refused.
+// A --set key may quote its parts as TOML's dotted keys do (bar."elements") and carry
+// spaces around them; a message echoes at most 200 characters of a key.
 #include <gtest/gtest.h>
 
 #include "gradmpm/app/BarCase.hpp"
@@ -119,4 +121,20 @@ TEST(CaseFile, HugeArrayIndicesAndCountsAreInputErrors) {
   const SectionSpec& out = mpm_section("output");
   CaseFile cf = CaseFile::parse("[output]\nvtk_every = 4294967297\n", "m.toml");
   EXPECT_THROW(read_integer(cf, "output", out.key("vtk_every")), InputError);
+}
+
+TEST(CaseFile, SetKeysMayQuoteTheirPartsAndCarrySpaces) {
+  CaseFile cf = CaseFile::parse(kBar, "case.toml", {"\"bar\".\"elements\"=160", "bar.split =0.25", " bar . length=4"});
+  BarOutputOptions out;
+  const BarConfig c = read_bar_config(cf, out);
+  EXPECT_EQ(c.elements, 160);
+  EXPECT_EQ(c.split, 0.25);
+  EXPECT_EQ(c.length, 4.0);
+}
+
+TEST(CaseFile, AMessageEchoesAtMostTwoHundredCharactersOfAKey) {
+  const std::string e = error_of({"bar." + std::string(100000, 'k') + "=1"});
+  EXPECT_NE(e.find("unknown key"), std::string::npos) << e.substr(0, 300);
+  EXPECT_LT(e.size(), 600u) << e.substr(0, 300);
+  EXPECT_NE(e.find(std::string(190, 'k') + "..."), std::string::npos);
 }

@@ -26,9 +26,15 @@
 //     (Restarts on other numbers of ranks: Mpi.CheckpointOfEachRanksPointsRestartsOnAnyNumberOfRanks.)
 //  R8 a checkpoint records the run's threads, and a restart with other threads says that
 //     it follows the uninterrupted run to round-off, not bit for bit (OpenBLAS splits its
-//     sums by threads: tests/test_threads.cpp R2b); one with the same threads says nothing.
+//     sums by threads: tests/test_threads.cpp R2b); one with the same threads says nothing;
+//  R9 a checkpoint that cannot be written (the disk full: a file size limit here) stops
+//     the run with exit 2 and one message, never a crash (HDF5 closed the failed file
+//     again at exit: SIGSEGV), and leaves no part of itself in the checkpoint folder;
+//  R10 --restart on a checkpoint whose checkpoint.h5 is not a regular file (a FIFO) is
+//     refused with exit 2 at once, never blocks.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <cmath>
@@ -293,4 +299,29 @@ TEST_F(CheckpointCli, OnlyTheLatestCheckpointsStayAndStaleTemporariesGo) {
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"step_000028", "step_000032", "step_000036"}));
   EXPECT_NE(r.out.find("checkpoint " + (dir / "a").string() + ".checkpoints/step_000036"), std::string::npos) << r.out;
+}
+
+TEST_F(CheckpointCli, ACheckpointOnAFullDiskStopsTheRunWithOneMessageAndLeavesNoPartOfIt) {
+  // A file size limit of 30 KiB (the column's checkpoint is about 47 KiB, its other files
+  // a few): writes beyond it fail with EFBIG as on a full disk (SIGXFSZ ignored).
+  const CliResult r =
+      run_gradmpm("run " + example("column_2d.toml") +
+                      " -q --set output.checkpoint_every=1 --set output.plot=false --out " + (dir / "a").string(),
+                  "trap '' XFSZ; ulimit -f 30;");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("cannot write the checkpoint file"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "a")) << "a refused run publishes nothing";
+  for (const auto& e : fs::directory_iterator(dir / "a.checkpoints"))
+    ADD_FAILURE() << "left in the checkpoint folder: " << e.path().filename();
+}
+
+TEST_F(CheckpointCli, ARestartFromAFifoIsRefusedAtOnce) {
+  fs::create_directories(dir / "ck" / "outputs");
+  ASSERT_EQ(::mkfifo((dir / "ck" / "checkpoint.h5").c_str(), 0644), 0);
+  const CliResult r = run_gradmpm(
+      "run " + example("column_2d.toml") + " -q --out " + (dir / "a").string() + " --restart " + (dir / "ck").string(),
+      "timeout 20");
+  EXPECT_EQ(r.code, 2) << "124: it blocked\n" << r.err;
+  EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << r.err;
 }

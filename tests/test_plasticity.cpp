@@ -26,7 +26,15 @@
 //     stress lies there (f = 0 and the ordering, sigma_1 = sigma_2 or sigma_2 = sigma_3,
 //     or the apex); the tangent matches central differences (1e-6) in every region,
 //     associated or not, and is symmetric exactly when psi = phi; non-associated it runs
-//     in the MPM through linear_solver.general with quadratic convergence.
+//     in the MPM through linear_solver.general with quadratic convergence;
+//  R9 the yield test is not decided by round-off: a point left on the surface, with
+//     f = +-1e-14 of its strength, stays elastic (kappa unchanged, Hencky's stress and
+//     tangent) under a rigid rotation, for von Mises, Drucker-Prager and Mohr-Coulomb and
+//     its tension cut-off;
+//  R10 softening steeper than the elastic stiffness (von Mises H < -3 mu, Drucker-Prager
+//     H < -(G + K eta eta_bar) / xi^2) returns onto the residual floor, the one root of the
+//     return's equation: consistent (f = 0 at the new kappa, kappa grown) just below and
+//     just above that slope, with the tangent equal to central differences.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -45,6 +53,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/materials/DruckerPrager.hpp"
+#include "gradmpm/materials/Hencky.hpp"
 #include "gradmpm/materials/MohrCoulomb.hpp"
 #include "gradmpm/materials/VonMises.hpp"
 #include "gradmpm/points/Generate.hpp"
@@ -367,5 +376,88 @@ TEST(MohrCoulomb, EveryRegionIsReachedAndItsReturnLiesThere) {
         EXPECT_GT(asym, 1e-4) << c.what << ": non-associated";
     }
     EXPECT_EQ(m.symmetric_tangent(), psi == phi);
+  }
+}
+
+namespace {
+/// A small rigid rotation: a load step that changes no strain.
+Mat3 rotation() { return Eigen::AngleAxisd(0.1, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix(); }
+/// The elastic state with deviatoric principal strains (a, -a, 0) in a rotated frame.
+std::vector<double> deviatoric_state(double a, std::size_t size = 7) {
+  std::vector<double> st(size, 0.0);
+  const Mat3 Q = rotation().transpose();
+  pack_symmetric(Q * Eigen::Vector3d(a, -a, 0.0).asDiagonal() * Q.transpose(), st.data());
+  return st;
+}
+/// Checks that `m`, from eps_n (kappa_n = 0), rotated rigidly stays elastic: kappa stays 0
+/// and the stress and tangent are Hencky's.
+void expect_elastic(const Material& m, const std::vector<double>& st, const std::string& what) {
+  const Hencky hencky(kE, kNu, 1.0);
+  const std::vector<double> eps_n(st.begin(), st.begin() + 6);
+  const auto u = test::respond(m, rotation(), st);
+  const auto h = test::respond(hencky, rotation(), eps_n);
+  EXPECT_EQ(u.state[6], 0.0) << what << ": kappa unchanged";
+  EXPECT_LT((u.r.stress - h.r.stress).norm(), 1e-12 * h.r.stress.norm()) << what;
+  const Mat9 A = test::tangent_of(m, rotation(), st), Ah = test::tangent_of(hencky, rotation(), eps_n);
+  EXPECT_LT((A - Ah).cwiseAbs().maxCoeff(), 1e-10 * Ah.cwiseAbs().maxCoeff()) << what << ": the elastic tangent";
+}
+}  // namespace
+
+TEST(YieldTest, APointOnTheSurfaceWithinRoundOffStaysElastic) {
+  const double mu = IsotropicElasticity(kE, kNu).mu;
+  for (double delta : {1e-14, -1e-14}) {
+    const std::string d = fmt::format(", f = {:g} of the strength", delta);
+    // von Mises: q = 2 sqrt(3) mu a.
+    expect_elastic(law(0.0), deviatoric_state(kSy * (1.0 + delta) / (2.0 * std::sqrt(3.0) * mu)), "von Mises" + d);
+    // Drucker-Prager at p = 0: sqrt(J2) = 2 mu a = xi c.
+    const DruckerPrager cone = dp(30.0, 30.0);
+    expect_elastic(cone, deviatoric_state(cone.xi() * cone.cohesion(0.0) * (1.0 + delta) / (2.0 * mu)),
+                   "Drucker-Prager" + d);
+    // Mohr-Coulomb's plane: k sigma_1 - sigma_3 = 2 mu a (k + 1) = 2 sqrt(k) c.
+    const double sn = std::sin(30.0 * std::numbers::pi / 180.0), k = (1.0 + sn) / (1.0 - sn);
+    expect_elastic(mc(30.0, 30.0), deviatoric_state(2.0 * std::sqrt(k) * 5.0 * (1.0 + delta) / (2.0 * mu * (k + 1.0))),
+                   "Mohr-Coulomb" + d);
+    // The tension cut-off sigma_t = 1: uniaxial strain b gives sigma_1 = (lambda + 2 mu) b.
+    const IsotropicElasticity e(kE, kNu);
+    const MohrCoulomb cutoff(e, 1.0, {5.0, 30.0, 30.0, 0.0, 0.0, 1.0});
+    std::vector<double> st(7, 0.0);
+    const Mat3 Q = rotation().transpose();
+    const double b = (1.0 + delta) / (e.lambda + 2.0 * e.mu);
+    pack_symmetric(Q * Eigen::Vector3d(b, 0.0, 0.0).asDiagonal() * Q.transpose(), st.data());
+    expect_elastic(cutoff, st, "Mohr-Coulomb's tension cut-off" + d);
+  }
+}
+
+TEST(SteepSoftening, ReturnsOntoTheResidualFloorJustBelowAndAboveTheElasticStiffness) {
+  const IsotropicElasticity e(kE, kNu);
+  const double K = e.lambda + 2.0 * e.mu / 3.0;
+  for (double factor : {1.01, 0.99, 0.9999}) {
+    // von Mises from a state at its strength (kappa_n = 0.001): H = -factor 3 mu.
+    const VonMises m = law(-factor * 3.0 * e.mu, 2.0);
+    const auto st = state(history_strain(), 0.001);
+    const auto u = test::respond(m, plastic_increment(), st);
+    const double kappa = u.state[6], q = mises(u.r.stress), sy = m.yield_stress(kappa);
+    std::cout << "von Mises, H = " << -factor << " x 3 mu: q = " << q << ", sigma_y(kappa) = " << sy
+              << ", kappa = " << kappa << "\n";
+    EXPECT_GT(kappa, 0.001) << factor;
+    EXPECT_LT(std::abs(q - sy), 1e-10 * kSy) << factor;
+    if (factor > 1.0) EXPECT_NEAR(q, 2.0, 1e-10 * kSy) << "on the floor";
+    const Mat9 A = test::tangent_of(m, plastic_increment(), st);
+    const Mat9 Afd = test::finite_difference_tangent(m, plastic_increment(), st, 1e-7);
+    EXPECT_LT((A - Afd).cwiseAbs().maxCoeff() / A.cwiseAbs().maxCoeff(), 1e-6) << factor;
+
+    // Drucker-Prager (associated): the cone's stiffness G + K eta^2 + xi^2 H.
+    const DruckerPrager probe = dp(30.0, 30.0);
+    const double critical = -(e.mu + K * probe.eta() * probe.eta()) / (probe.xi() * probe.xi());
+    const DruckerPrager c = dp(30.0, 30.0, factor * critical, 1.0);
+    const auto v = test::respond(c, plastic_increment(), st);
+    std::cout << "Drucker-Prager, H = " << factor << " x " << critical
+              << ": Phi = " << dp_yield(c, v.r.stress, v.state[6]) << ", c(kappa) = " << c.cohesion(v.state[6]) << "\n";
+    EXPECT_GT(v.state[6], 0.001) << factor;
+    EXPECT_LT(std::abs(dp_yield(c, v.r.stress, v.state[6])), 1e-10 * c.xi() * 5.0) << factor;
+    if (factor > 1.0) EXPECT_EQ(c.cohesion(v.state[6]), 1.0) << "on the floor";
+    const Mat9 B = test::tangent_of(c, plastic_increment(), st);
+    const Mat9 Bfd = test::finite_difference_tangent(c, plastic_increment(), st, 1e-7);
+    EXPECT_LT((B - Bfd).cwiseAbs().maxCoeff() / B.cwiseAbs().maxCoeff(), 1e-6) << factor;
   }
 }

@@ -6,7 +6,11 @@
 //     byte for byte), and the next run removes what the killed one left and publishes;
 //  R3 a second run on a folder in use is refused with exit 2, naming the other run;
 //  R4 a folder holding folders of its own (such as `--out .`) is refused with exit 2;
-//  R5 no temporary or staging file is left beside or inside the folder after a run.
+//  R5 no temporary or staging file is left beside or inside the folder after a run;
+//  R6 `--out LINK`, a symbolic link to a folder (out -> /scratch/run, as on clusters),
+//     publishes in the link's target and leaves the link a link; a dangling link's target
+//     is made; `--out LINK` and `--out TARGET` take one lock (a second run is refused);
+//  R7 an empty --out or --restart is refused with exit 2 (never read as the default).
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -112,4 +116,45 @@ TEST_F(RunFolderCli, AFolderOfFoldersIsRefused) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("holds the folder src, which gradmpm did not write"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_directory(out() / "src"));
+}
+
+TEST_F(RunFolderCli, ALinkAsOutPublishesInItsTargetAndKeepsTheLink) {
+  fs::create_directories(dir / "scratch" / "run");
+  fs::create_directory_symlink("scratch/run", out());
+  const CliResult r = run_gradmpm("run " + column() + " -q --out " + out().string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(out())) << "the link was replaced";
+  EXPECT_TRUE(fs::exists(dir / "scratch" / "run" / "points_final.csv"));
+  // A dangling link: its target is made, and the results land there.
+  fs::create_directory_symlink("scratch/later", dir / "dangling");
+  const CliResult d = run_gradmpm("run " + column() + " -q --out " + (dir / "dangling").string());
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_TRUE(fs::is_symlink(dir / "dangling"));
+  EXPECT_TRUE(fs::exists(dir / "scratch" / "later" / "points_final.csv"));
+}
+
+TEST_F(RunFolderCli, ALinkAndItsTargetTakeOneLock) {
+  fs::create_directories(dir / "scratch" / "run");
+  fs::create_directory_symlink("scratch/run", out());
+  const std::string cmd = std::string(GRADMPM_EXE) + " run " + column() + " --out " + out().string() +
+                          " --set load_steps.count=4000 --set output.vtk_every=0 >/dev/null 2>&1 & echo $! > " +
+                          (dir / "pid").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const int pid = std::stoi(slurp(dir / "pid"));
+  const fs::path staging = dir / "scratch" / (".run.staging-" + std::to_string(pid));
+  for (int i = 0; i < 500 && !fs::exists(staging); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(fs::exists(staging)) << "the first run stages beside the link's target";
+  const CliResult r = run_gradmpm("run " + column() + " --out " + (dir / "scratch" / "run").string());
+  ::kill(pid, SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("is writing this folder"), std::string::npos) << r.err;
+}
+
+TEST_F(RunFolderCli, AnEmptyOutOrRestartIsRefused) {
+  for (const std::string opt : {"--out ''", "--restart ''"}) {
+    const CliResult r = run_gradmpm("run " + column() + " " + opt);
+    EXPECT_EQ(r.code, 2) << opt << "\n" << r.err;
+    EXPECT_NE(r.err.find("expected a path, got an empty one"), std::string::npos) << r.err;
+  }
 }

@@ -9,7 +9,9 @@
 # The serial run uses the case's solver (CHOLMOD by default); the distributed one PETSc
 # with MUMPS's parallel LU, so the two differ by round-off only, not by a Krylov tolerance.
 # With PETSC_OPTIONS_OF_RANKS set (possibly empty) the ranks get those options instead;
-# empty: PETSc's defaults (MUMPS's LU for a general tangent, as with F-bar).
+# empty: PETSc's defaults (MUMPS's LU for a general tangent, as with F-bar). With
+# RANKS_DEFAULT_SOLVER=1 the ranks get no linear_solver key at all: a case without that
+# section must run on ranks (PETSc is their default) and give the serial answer too.
 set -euo pipefail
 gradmpm=$1 mpiexec=$2 ranks=$3 case=$4 work=$5
 shift 5
@@ -17,6 +19,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 options=${PETSC_OPTIONS_OF_RANKS--ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps}
 rank_args=(--set linear_solver.type=petsc)
 [ -z "$options" ] || rank_args+=(--set "linear_solver.options=$options")
+[ -z "${RANKS_DEFAULT_SOLVER:-}" ] || rank_args=()
 rm -rf "$work" && mkdir -p "$work"
 "$gradmpm" run "$case" --out "$work/serial" -q -j1 "$@"
 # With MIGRATIONS_AT_LEAST=N the distributed run prints its steps, and its points must

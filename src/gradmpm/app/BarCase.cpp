@@ -55,6 +55,11 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* 
     const SectionSpec& m = bar_mpm_section();
     mpm->load_steps = static_cast<int>(read_integer(cf, "mpm", m.key("load_steps")));
     mpm->basis = *parse_basis(read_string(cf, "mpm", m.key("basis")));
+    const double most = bar_mpm_largest_compression(*mpm);
+    cf.require(c.end_displacement > -most, "bar.end_displacement",
+               fmt::format("a compression less than {:.4g} (the bar's end held by the grid nodes at x >= L must "
+                           "stay within their cells: one cell less the last point's distance from the end)",
+                           most));
   }
   return c;
 }

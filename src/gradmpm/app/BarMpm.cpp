@@ -10,6 +10,16 @@
 
 namespace gradmpm {
 
+double bar_mpm_largest_compression(const BarMpmConfig& cfg) {
+  const BarConfig& c = cfg.bar;
+  const double h = c.length / c.elements;
+  if (cfg.basis != BasisKind::MPM) return h;  // the last domain ends at the bar's end
+  const int n = c.points_per_element;
+  const double X = c.length - h * (1.0 - GaussRule01(n).xi[n - 1]);  // the last Gauss point
+  const analytic::BimaterialBar unit{c.length, c.split * c.length, c.young_left, c.young_right, 1.0};
+  return (X - (c.length - h)) / unit.classical_displacement(X);
+}
+
 BarResult solve_bar_mpm(const BarMpmConfig& cfg, double* gradient_seconds, double* classical_seconds) {
   const BarConfig& c = cfg.bar;
   const double h = c.length / c.elements, a = c.split * c.length;

@@ -76,8 +76,10 @@ const SectionSpec& regularisation_section() {
         .doc = "`implicit-gradient`: every softening material's strength follows kappa_hat = (1 - m) kappa + m kappa_bar, kappa_bar - l^2 laplacian kappa_bar = kappa"},
        {.name = "length_scale", .type = K::Number, .default_text = "required unless `none`", .min = 0.0, .min_open = true,
         .allowed = "a length scale l > 0", .doc = "l, the internal length of the nonlocal plastic strain"},
-       {.name = "nonlocal_weight", .type = K::Number, .default_value = 2.0, .min = 1.0,
-        .allowed = "a weight m >= 1", .doc = "m; m > 1 (over-nonlocal) regularises fully, m = 1 does not"},
+       {.name = "nonlocal_weight", .type = K::Number, .default_value = 2.0, .min = 1.0, .max = 1e6,
+        .allowed = "a weight m from 1 to 1e6",
+        .doc = "m; m > 1 (over-nonlocal) regularises fully, m = 1 does not; (1 - m) kappa + m kappa_bar carries m times "
+               "the round-off of kappa, and the answer departs beyond about 1e7 (docs/shear-bands.md)"},
        {.name = "history", .type = K::String, .default_value = std::string("points"), .choices = {"points", "grid"},
         .doc = "`points`: kappa_bar of the last step starts the next step's iteration; `grid`: recomputed from kappa_n on the new step's grid"},
        {.name = "max_iterations", .type = K::Integer, .default_value = static_cast<long long>(Regularisation{}.max_iterations), .min = 1.0, .max = 10000.0,

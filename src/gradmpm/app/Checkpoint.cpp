@@ -156,8 +156,7 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
       fsync_path(tmp, shown);
       // Into place in one rename; an older checkpoint of the same step (an earlier run that
       // went further) is swapped out, so a complete one is there at every moment.
-      move_into_place(tmp, final_path, folder_ / fmt::format(".{}.old-{}", name, tag_),
-                      shown + ": cannot publish");
+      move_into_place(tmp, final_path, folder_ / fmt::format(".{}.old-{}", name, tag_), shown + ": cannot publish");
       fsync_path(folder_, shown_);
       // Keep the last keep_ up to this step; later ones are an earlier run's, which this run rewrites.
       auto all = checkpoints_in(folder_);
@@ -170,7 +169,9 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
       if (keep_ > 0)
         for (std::size_t i = 0; i + keep_ - 1 < older.size(); ++i) fs::remove_all(older[i], ec);
     } catch (const UserError& e) {
-      problem = e.what();
+      problem = with_path_shown(e.what(), tmp, shown);  // the step's name, not the hidden temporary's
+      std::error_code ec;
+      fs::remove_all(tmp, ec);  // what was written of it gives back the space it took
     }
   ranks::stop_if_any<OutputError>(problem);  // no rank goes on past a checkpoint that is not there
   return shown;
@@ -383,8 +384,8 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
   double kept = static_cast<double>(rows.count());
   ranks::sum(&kept, 1);
   if (static_cast<long long>(kept) != total)
-    throw InputError(fmt::format("{}: its point files hold {} of its {} points (damaged)", r.folder.string(), kept,
-                                 total));
+    throw InputError(
+        fmt::format("{}: its point files hold {} of its {} points (damaged)", r.folder.string(), kept, total));
   Archive mine;
   try {
     mine = rows.take(a.source());
@@ -418,7 +419,7 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
   return d;
 }
 
-#define GRADMPM_CHECKPOINT(dim)                                                      \
+#define GRADMPM_CHECKPOINT(dim)                                                                \
   template void save_run_state<dim>(Archive&, Archive&, const Model<dim>&, const DriverState&, \
                                     const std::vector<PostStepStage<dim>*>&);                  \
   template DriverState restore_run_state<dim>(const Restart&, Model<dim>&, const std::vector<PostStepStage<dim>*>&);

@@ -21,10 +21,13 @@ LinearSolverSettings read_linear_solver_settings(const CaseFile& cf) {
   const auto& registry = LinearSolverRegistry::instance();
   const SectionSpec& sec = linear_solver_section();
   LinearSolverSettings s;
-  s.type = read_string(cf, sec.name, sec.key("type"));
+  // On several MPI ranks PETSc distributes the solves (docs/parallel.md): the default there,
+  // and the only choice.
+  KeySpec type_key = sec.key("type");
+  if (ranks::distributed()) type_key.default_value = std::string("petsc");
+  s.type = read_string(cf, sec.name, type_key);
   const LinearSolverInfo* type = registry.find(s.type);
   cf.require(type != nullptr, "linear_solver.type", sec.key("type").expected());
-  // On several MPI ranks PETSc distributes the solves (docs/parallel.md).
   cf.require(!ranks::distributed() || s.type == "petsc", "linear_solver.type",
              fmt::format("\"petsc\" on {} MPI ranks (with options = \"-ksp_type preonly -pc_type lu "
                          "-pc_factor_mat_solver_type mumps\" for a direct solve)",

@@ -65,6 +65,26 @@ Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
   return b;
 }
 
+/// A rigid box acts on points: one of no size, or whose path from load factor 0 to 1 never
+/// meets the grid, could touch none; its name is its row in reactions.csv, so it is unique
+/// among the named constraints and the boxes before it.
+template <int dim>
+void check_rigid_box(const CaseFile& cf, const std::string& k, const RigidBox<dim>& b, const Vec<dim>& origin,
+                     const Vec<dim>& grid_hi, const Model<dim>& m) {
+  bool meets = true;
+  for (int d = 0; d < dim; ++d) {
+    cf.require(b.hi[d] > b.lo[d], k + ".max", "a box of positive size in every direction");
+    const double lo = std::min(b.lo[d], b.lo[d] + b.total[d]), hi = std::max(b.hi[d], b.hi[d] + b.total[d]);
+    meets = meets && lo < grid_hi[d] && hi > origin[d];
+  }
+  cf.require(meets, k + ".min", "a box that meets the grid on its way (it could touch no material point)");
+  if (b.name.empty()) return;
+  for (const auto& s : m.node_sets)
+    cf.require(s.name != b.name, k + ".name", "a name no named constraint has (reactions.csv has one row per name)");
+  for (const auto& other : m.rigid_boxes)
+    cf.require(other.name != b.name, k + ".name", "a name no other rigid box has (reactions.csv has one row per name)");
+}
+
 /// [regularisation]: makes every softening material regularised (materials/PlasticLaw.hpp)
 /// and keeps the settings of the nonlocal field in the model.
 template <int dim>
@@ -134,9 +154,9 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   const int on_this_machine = ranks::on_this_machine();
   const std::string machine_ranks =
       ranks::distributed() ? fmt::format(", {} of the {} ranks on this machine", on_this_machine, ranks::size()) : "";
-  require_memory(cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output, share, on_this_machine),
-                 fmt::format("{:.3g} grid nodes{}{}", nodes, grid_output ? " written to grid VTU files" : "",
-                             machine_ranks));
+  require_memory(
+      cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output, share, on_this_machine),
+      fmt::format("{:.3g} grid nodes{}{}", nodes, grid_output ? " written to grid VTU files" : "", machine_ranks));
   Model<dim> m(Grid<dim>(origin, h, n));
   Vec<dim> grid_hi;
   for (int d = 0; d < dim; ++d) grid_hi[d] = origin[d] + n[d] * h[d];
@@ -149,10 +169,12 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   if (names.empty())
     throw InputError(fmt::format("{}: missing section [materials.NAME] (at least one material)", cf.name()));
   for (const auto& name : names) {  // each law reads its own keys
-    // A dot would read as a key path (materials.so.il.model): refuse it by name.
-    if (name.find('.') != std::string::npos || name.find_first_of("\n\r\t") != std::string::npos)
-      throw InputError(fmt::format("{}: [materials.\"{}\"]: expected a material name without dots or line breaks",
-                                   cf.name(), name.find('.') != std::string::npos ? name : std::string("...")));
+    // A dot or brackets would read as a key path (materials.so.il.model, bodies[0]), a
+    // quote as the end of a name: refuse them by name.
+    if (name.find_first_of(".[]\"") != std::string::npos || name.find_first_of("\n\r\t") != std::string::npos)
+      throw InputError(
+          fmt::format("{}: [materials.\"{}\"]: expected a material name without dots, brackets, quotes or line breaks",
+                      cf.name(), name.find_first_of("\n\r\t") == std::string::npos ? name : std::string("...")));
     const std::string k = "materials." + name;
     const std::string model = read_string(cf, k, mpm_section("materials").key("model"));
     const MaterialInfo* law = MaterialRegistry::instance().find(model);
@@ -163,6 +185,12 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     m.materials.push_back(law->make(cf, k, *law));
   }
   read_regularisation(cf, names, m);
+  // l^2 beside the cells' h^2 in the Helmholtz system: far beyond the grid's extent kappa_bar
+  // is only the mean of kappa, and l = 1e300 overflowed l^2 into a solve of non-finite values.
+  double extent = 0.0;
+  for (int d = 0; d < dim; ++d) extent = std::max(extent, n[d] * h[d]);
+  cf.require(m.regularisation.length_scale <= 10.0 * extent, "regularisation.length_scale",
+             fmt::format("a length scale l > 0 of at most 10 times the grid's extent ({:g})", 10.0 * extent));
 
   // --- bodies: material points at sub-cell centres inside each body
   const std::size_t nb = cf.array_size("bodies");
@@ -359,6 +387,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     cf.require(b.name.find_first_of(",\n\"") == std::string::npos, k + ".name",
                "a name without commas, quotes or newlines");
     if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
+    check_rigid_box(cf, k, b, origin, grid_hi, m);
     b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / h.minCoeff();
     int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
     for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {

@@ -185,9 +185,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     const bool in_pieces = ranks::distributed();
     const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
     const std::string gf = fmt::format("grid_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
-    const auto pieces =
-        in_pieces ? write_vtu_pieces(options.pieces, step, {{"points", table.vtu(names)}, {"grid", grid_vtu(m, grid_fields)}})
-                  : std::vector<std::vector<std::string>>{};
+    const auto pieces = in_pieces ? write_vtu_pieces(options.pieces, step,
+                                                     {{"points", table.vtu(names)}, {"grid", grid_vtu(m, grid_fields)}})
+                                  : std::vector<std::vector<std::string>>{};
     if (!writes) return;  // rank 0 writes the rest
     StagedOutputs out(dir);
     out.write_text(pf, in_pieces ? pvtu(table.vtk_layout(names), pieces[0]) : table.vtu(names));
@@ -308,6 +308,11 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
     for (int d = 0; d < dim; ++d) across += (d ? " x " : "") + std::to_string(m.rank_boxes.cut(d).size() - 1);
     partition = fmt::format("; the grid cut into {} boxes of cells, {} to {} points per rank", across,
                             *std::min_element(held.begin(), held.end()), *std::max_element(held.begin(), held.end()));
+    if (!cf.has("linear_solver.type"))  // (the default on several ranks: CommonKeys.cpp)
+      partition += fmt::format("; linear solver \"petsc\" (the default on {} ranks: {})", ranks::size(),
+                               c.newton.linear_solver.options.empty()
+                                   ? "CG with GAMG for a symmetric tangent, MUMPS's LU for a general one"
+                                   : "its options from linear_solver.options");
   }
 
   const std::string hugetlb = malloc_hugetlb();

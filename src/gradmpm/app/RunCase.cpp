@@ -132,6 +132,8 @@ void run_case(const std::filesystem::path& case_file, const RunOptions& options)
   } catch (const SolverError&) {
     folder.publish();
     throw;
+  } catch (const OutputError& e) {  // (a full disk): name DIR, not the hidden staging folder
+    throw OutputError(folder.shown_as(e.what(), out_dir));
   }
   folder.publish();
   if (!options.quiet) fmt::print("  wrote {}: {}\n", out_dir.string(), folder.summary());

@@ -49,4 +49,12 @@ void move_into_place(const fs::path& fresh, const fs::path& target, const fs::pa
   fs::remove_all(aside, ec);
 }
 
+std::string with_path_shown(std::string message, const std::filesystem::path& hidden, const std::string& shown) {
+  const std::string h = hidden.string();
+  if (h.empty()) return message;
+  for (std::size_t at = 0; (at = message.find(h, at)) != std::string::npos; at += shown.size())
+    message.replace(at, h.size(), shown);
+  return message;
+}
+
 }  // namespace gradmpm

@@ -14,6 +14,10 @@ void fsync_path(const std::filesystem::path& p, const std::string& shown);
 /// (another file system); returns the error of the copy, if any.
 std::error_code link_or_copy(const std::filesystem::path& from, const std::filesystem::path& to);
 
+/// `message` with every mention of the hidden path `hidden` (a staging folder, a
+/// temporary) written as `shown`, the name the user knows.
+std::string with_path_shown(std::string message, const std::filesystem::path& hidden, const std::string& shown);
+
 /// Puts the complete folder `fresh` at `target` and removes what was there: one rename
 /// when `target` does not exist, else one atomic swap (renameat2 RENAME_EXCHANGE) or, on
 /// a file system without it, two renames through `aside` (target briefly absent).

@@ -17,6 +17,11 @@ namespace gradmpm {
 namespace {
 /// Text for a one-line message: control characters escaped (\n, \t, \xNN).
 std::string printable(std::string_view text) {
+  // A message echoes at most 200 characters of a key or an assignment (a 100,000-character
+  // key is a pasted mistake, not something to print whole).
+  constexpr std::size_t kShown = 200;
+  const bool cut = text.size() > kShown;
+  if (cut) text = text.substr(0, kShown);
   std::string out;
   for (const char c : text) {
     if (c == '\n')
@@ -28,7 +33,7 @@ std::string printable(std::string_view text) {
     else
       out += c;
   }
-  return out;
+  return cut ? out + "..." : out;
 }
 
 /// A value as one line: toml++ prints some arrays over several lines, which a message
@@ -58,16 +63,32 @@ std::string show(const toml::node& n) {
   return text;
 }
 
+std::string trimmed(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t"), last = s.find_last_not_of(" \t");
+  return first == std::string_view::npos ? std::string() : std::string(s.substr(first, last - first + 1));
+}
+
+/// The parts of a dotted key, each trimmed of spaces and, as TOML's dotted keys allow, of
+/// the double quotes around it (materials."soil".young is materials.soil.young).
 std::vector<std::string> split_key(const std::string& key) {
   std::vector<std::string> parts;
   std::size_t start = 0;
   while (true) {
     const std::size_t dot = key.find('.', start);
-    parts.push_back(key.substr(start, dot - start));
+    std::string part = trimmed(std::string_view(key).substr(start, dot == std::string::npos ? dot : dot - start));
+    if (part.size() >= 2 && part.front() == '"' && part.back() == '"') part = part.substr(1, part.size() - 2);
+    parts.push_back(part);
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
   return parts;
+}
+
+/// The key path of its parts: a.b.c.
+std::string join_key(const std::vector<std::string>& parts) {
+  std::string key;
+  for (const auto& p : parts) key += (key.empty() ? "" : ".") + p;
+  return key;
 }
 
 std::string join(const std::vector<std::string>& v) {
@@ -108,12 +129,13 @@ void CaseFile::apply_override(const std::string& assignment) {
     throw InputError(
         fmt::format("--set '{}': expected one line section.key=value (it holds a line break)", printable(assignment)));
   const std::size_t eq = assignment.find('=');
-  const std::string key = assignment.substr(0, eq);
-  const auto parts = split_key(key);
+  const auto parts = split_key(assignment.substr(0, eq));
   bool valid = eq != std::string::npos && parts.size() >= 2;
   for (const auto& p : parts) valid = valid && !p.empty();
   if (!valid)
-    throw InputError(fmt::format("--set '{}': expected section.key=value (e.g. bar.elements=160)", assignment));
+    throw InputError(
+        fmt::format("--set '{}': expected section.key=value (e.g. bar.elements=160)", printable(assignment)));
+  const std::string key = join_key(parts);
   const std::string value = assignment.substr(eq + 1);
 
   // The value as TOML ("160", "2.5", "[1e3, 5e3]", "true", "\"e-RA\""), else a plain string.
@@ -132,11 +154,11 @@ void CaseFile::apply_override(const std::string& assignment) {
     if (const auto lb = part.find('['); lb != std::string::npos && part.back() == ']') {
       const std::string digits = part.substr(lb + 1, part.size() - lb - 2);
       if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
-        throw InputError(fmt::format("--set '{}': '{}' is not name[index]", assignment, part));
+        throw InputError(fmt::format("--set '{}': '{}' is not name[index]", printable(assignment), printable(part)));
       // No array of tables holds a billion entries; longer digit strings would overflow stol.
       if (digits.size() > 9)
-        throw InputError(
-            fmt::format("--set '{}': {} has no entry [{}] in {}", assignment, part.substr(0, lb), digits, name_));
+        throw InputError(fmt::format("--set '{}': {} has no entry [{}] in {}", printable(assignment),
+                                     printable(part.substr(0, lb)), digits, name_));
       index = std::stol(digits);
       part = part.substr(0, lb);
     }
@@ -144,16 +166,20 @@ void CaseFile::apply_override(const std::string& assignment) {
     if (index >= 0) {
       toml::array* a = child ? child->as_array() : nullptr;
       if (!a || index >= static_cast<long>(a->size()) || !(*a)[static_cast<std::size_t>(index)].is_table())
-        throw InputError(fmt::format("--set '{}': {} has no entry [{}] in {}", assignment, part, index, name_));
+        throw InputError(fmt::format("--set '{}': {} has no entry [{}] in {}", printable(assignment), printable(part),
+                                     index, name_));
       t = (*a)[static_cast<std::size_t>(index)].as_table();
       continue;
     }
     if (!child) child = &t->insert_or_assign(part, toml::table{}).first->second;
     t = child->as_table();
-    if (!t) throw InputError(fmt::format("--set '{}': '{}' is not a section in {}", assignment, part, name_));
+    if (!t)
+      throw InputError(
+          fmt::format("--set '{}': '{}' is not a section in {}", printable(assignment), printable(part), name_));
   }
   if (const toml::node* existing = t->get(parts.back()); existing && existing->is_table())
-    throw InputError(fmt::format("--set '{}': '{}' is a section in {}, not a key", assignment, key, name_));
+    throw InputError(
+        fmt::format("--set '{}': '{}' is a section in {}, not a key", printable(assignment), printable(key), name_));
   t->insert_or_assign(parts.back(), std::move(*holder.get("v")));
   overridden_.insert(key);
 }
@@ -238,9 +264,10 @@ void CaseFile::reject_unknown() const {
     const auto it = declared_.find(section);
     if (it == declared_.end()) {
       if (node.is_table() || node.is_array_of_tables())
-        throw InputError(fmt::format("{}: unknown section [{}] (expected {})", name_, section, join(sections)));
-      throw InputError(
-          fmt::format("{}: {}: unknown top-level key (expected the sections {})", name_, section, join(sections)));
+        throw InputError(
+            fmt::format("{}: unknown section [{}] (expected {})", name_, printable(section), join(sections)));
+      throw InputError(fmt::format("{}: {}: unknown top-level key (expected the sections {})", name_,
+                                   printable(section), join(sections)));
     }
     const Declared& d = it->second;
     if (d.kind == Kind::Section) {

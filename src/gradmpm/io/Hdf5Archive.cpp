@@ -25,7 +25,18 @@ struct Handle {
   operator hid_t() const { return id; }
 };
 
-void quiet_hdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }  // our messages, not HDF5's stack
+/// Prepares the library once, before any other HDF5 call: our messages, not HDF5's stack;
+/// and no HDF5 clean-up at exit. A file whose close failed (a full disk) stays in HDF5's
+/// list of open files, and closing it again at exit crashed (H5F__close_cb from
+/// H5F_term_package); every file is closed here, so the clean-up has nothing else to do.
+void quiet_hdf5() {
+  static const bool prepared = [] {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)prepared;
+}
 
 void write_dataset(hid_t file, const std::string& name, hid_t file_type, hid_t mem_type, const void* data,
                    std::size_t n, const std::filesystem::path& path) {
@@ -92,14 +103,18 @@ void write_hdf5_archive(const std::filesystem::path& path, const Archive& a) {
     write_dataset(file, "index", H5T_STD_U8LE, H5T_NATIVE_UCHAR, index.data(), index.size(), path);
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
       throw OutputError(fmt::format("{}: cannot write the checkpoint file (disk full?)", path.string()));
-    if (H5Fclose(file.id) < 0)
-      throw OutputError(fmt::format("{}: cannot close the checkpoint file (disk full?)", path.string()));
-    file.id = -1;
+    const herr_t closed = H5Fclose(file.id);
+    file.id = -1;  // (closed or not, never closed twice)
+    if (closed < 0) throw OutputError(fmt::format("{}: cannot close the checkpoint file (disk full?)", path.string()));
   }
 }
 
 Archive read_hdf5_archive(const std::filesystem::path& path) {
   quiet_hdf5();
+  // A FIFO or a device would block the open or never end: only regular files are read.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(fmt::format("{}: not a regular file (a checkpoint is an HDF5 file)", path.string()));
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw InputError(
         fmt::format("{}: not a readable HDF5 checkpoint (missing, truncated or another kind of file)", path.string()));

@@ -45,10 +45,29 @@ bool is_gradmpm_output_name(const std::string& name) {
   return std::regex_match(name, outputs);
 }
 
+namespace {
+/// DIR with the links of its last component followed (a chain of them too): `--out link`
+/// with link -> /scratch/run writes, locks and publishes in /scratch/run, as `--out
+/// /scratch/run` does, and never replaces the link by a folder. A dangling link's target
+/// is made like any absent DIR.
+fs::path without_final_links(fs::path dir, const std::string& shown) {
+  for (int hops = 0; fs::is_symlink(dir); ++hops) {
+    if (hops == 40) throw OutputError(fmt::format("{}: too many levels of symbolic links", shown));
+    std::error_code ec;
+    const fs::path target = fs::read_symlink(dir, ec);
+    if (ec) throw OutputError(fmt::format("{}: cannot read the link ({})", shown, ec.message()));
+    dir = (target.is_absolute() ? target : dir.parent_path() / target).lexically_normal();
+    if (dir.filename().empty()) dir = dir.parent_path();
+  }
+  return dir;
+}
+}  // namespace
+
 RunFolder::RunFolder(fs::path dir) {
+  const std::string shown = dir.string();
   dir_ = fs::absolute(dir).lexically_normal();
   if (dir_.filename().empty()) dir_ = dir_.parent_path();  // "out/" -> "out"
-  const std::string shown = dir.string();
+  dir_ = without_final_links(dir_, shown);
   if (dir_ == dir_.root_path()) throw OutputError(fmt::format("{}: not an output folder", shown));
   std::error_code ec;
   fs::create_directories(dir_.parent_path(), ec);
@@ -128,6 +147,10 @@ void RunFolder::publish() {
   move_into_place(staging_, dir_, sibling(dir_, ".staging-" + std::to_string(::getpid()) + "-old"),
                   dir_.string() + ": cannot publish the run");
   published_ = true;
+}
+
+std::string RunFolder::shown_as(std::string message, const fs::path& shown) const {
+  return with_path_shown(std::move(message), staging_, shown.string());
 }
 
 std::string RunFolder::summary() const {

@@ -32,6 +32,8 @@ class RunFolder {
   const std::filesystem::path& dir() const { return dir_; }
   /// Where the run writes its files until publish().
   const std::filesystem::path& staging() const { return staging_; }
+  /// `message` with the staging folder's path written as `shown` (DIR as the user gave it).
+  std::string shown_as(std::string message, const std::filesystem::path& shown) const;
   /// Writes the manifest, keeps DIR's foreign files, and swaps the staging folder in.
   void publish();
   /// The files of the published run (its manifest), sorted.

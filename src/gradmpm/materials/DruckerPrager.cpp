@@ -52,10 +52,13 @@ void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state,
 
   Eigen::Vector3d s = s_tr;
   double p = p_tr, kappa = kappa_n, beta = 1.0, region = 0.0;
-  if (phi > 0.0) {
+  if (yields(phi, xi_ * c_n + eta_ * std::abs(p_tr))) {
     // Smooth cone: d_gamma from Phi(d_gamma) = 0 (linear in d_gamma with linear hardening).
-    double d_gamma = phi / (G + K * eta_ * eta_bar_ + xi_ * xi_ * H);
-    if (cohesion.passes_floor(kappa_n, xi_ * d_gamma)) {
+    // Softening steeper than the elastic stiffness (a denominator <= 0): Phi grows with
+    // d_gamma down to the floor, so its one root lies on the floor.
+    const double stiffness = G + K * eta_ * eta_bar_ + xi_ * xi_ * H;
+    double d_gamma = phi / stiffness;
+    if (stiffness <= 0.0 || cohesion.passes_floor(kappa_n, xi_ * d_gamma)) {
       H = 0.0;
       d_gamma = (j2_tr + eta_ * p_tr - xi_ * cohesion.residual) / (G + K * eta_ * eta_bar_);
     } else if (cohesion.leaves_floor(kappa_n, xi_ * d_gamma)) {  // regularised: a rising strength
@@ -77,7 +80,7 @@ void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state,
       // is none and the apex acts as a tension cut-off (kappa unchanged, no stiffness).
       const double alpha = eta_bar_ > 0.0 ? xi_ / eta_bar_ : 0.0, b = xi_ / eta_;
       double dv = (p_tr - b * c_n) / (K + alpha * b * H);
-      if (cohesion.passes_floor(kappa_n, alpha * dv)) {
+      if (K + alpha * b * H <= 0.0 || cohesion.passes_floor(kappa_n, alpha * dv)) {
         H = 0.0;
         dv = (p_tr - b * cohesion.residual) / K;
       } else if (cohesion.leaves_floor(kappa_n, alpha * dv)) {

@@ -72,8 +72,11 @@ MohrCoulomb::Region MohrCoulomb::region(const MaterialResponse& r) {
 
 MohrCoulomb::Return MohrCoulomb::return_map(const Eigen::Vector3d& tr, double s) const {
   const Return elastic{0, tr, Mat3::Identity(), Eigen::Vector3d::Zero()};
-  // In sorted space the plane and the first cut-off plane bound the others.
-  if (a_[0].dot(tr) <= s && (!std::isfinite(sigma_t_) || tr[0] <= sigma_t_)) return elastic;
+  // In sorted space the plane and the first cut-off plane bound the others; each yields
+  // by more than round-off of its terms (materials/PlasticLaw.hpp).
+  const bool plane = yields(a_[0].dot(tr) - s, k_ * std::abs(tr[0]) + std::abs(tr[2]) + std::abs(s));
+  const bool cut = std::isfinite(sigma_t_) && yields(tr[0] - sigma_t_, std::abs(tr[0]) + sigma_t_);
+  if (!plane && !cut) return elastic;
   Return out;
   for (unsigned set : active_sets())
     if (return_onto(set, tr, s, out)) return out;

@@ -54,6 +54,14 @@ struct LinearStrength {
   }
 };
 
+/// Whether a trial state yields: f > tolerance x the size of the yield function's terms (the
+/// current strength at the point). A point left on the surface by the last step returns
+/// with f = +-1e-15 of its strength; an exact `f > 0` then chose the plastic or the elastic
+/// tangent by round-off, and a step's cuts could not change that choice (AMPLE's VMconst.m
+/// takes f / sigma_y > 1e-9; the relative 1e-12 keeps the returns 1e-10 on the surface).
+constexpr double kYieldTolerance = 1e-12;
+inline bool yields(double f, double strength_scale) { return f > kYieldTolerance * strength_scale; }
+
 class PlasticLaw : public Material {
  public:
   /// `kappa_doc`: how the law defines its equivalent plastic strain.

@@ -31,14 +31,16 @@ void VonMises::update(const Mat3& dF, const double* state_n, double* state, Mate
   const double kappa_n = state_n[kKappa];
   const LinearStrength yield = local_strength(state_n);
   bool at_floor = false;
-  const double f = q_tr - yield.at(kappa_n, &at_floor);
+  const double strength = yield.at(kappa_n, &at_floor), f = q_tr - strength;
 
   Eigen::Vector3d eps_e = eps_tr, tau = K * volumetric * kOnes + s_tr;
   double kappa = kappa_n, beta = 1.0, flow = 0.0;
-  if (f > 0.0) {  // plastic: return to the yield surface
+  if (yields(f, strength)) {  // plastic: return to the yield surface
     double H = at_floor ? 0.0 : yield.slope;
     double d_gamma = f / (3.0 * mu + H);
-    if (yield.passes_floor(kappa_n, d_gamma)) {
+    // Softening steeper than -3 mu: q_tr - 3 mu d_gamma - sigma_y(kappa_n + d_gamma) grows
+    // with d_gamma down to the floor, so its one root lies on the floor.
+    if (3.0 * mu + H <= 0.0 || yield.passes_floor(kappa_n, d_gamma)) {
       H = 0.0;  // the floor is reached within the step
       d_gamma = (q_tr - yield.residual) / (3.0 * mu);
     } else if (yield.leaves_floor(kappa_n, d_gamma)) {  // regularised: a rising strength
