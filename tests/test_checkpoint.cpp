@@ -31,7 +31,15 @@
 //     the run with exit 2 and one message, never a crash (HDF5 closed the failed file
 //     again at exit: SIGSEGV), and leaves no part of itself in the checkpoint folder;
 //  R10 --restart on a checkpoint whose checkpoint.h5 is not a regular file (a FIFO) is
-//     refused with exit 2 at once, never blocks.
+//     refused with exit 2 at once, never blocks;
+//  R11 a checkpoint whose outputs/ lacks a file it recorded, or holds one of another size
+//     or with one flipped bit, is refused with exit 2 naming the file: a restart never
+//     publishes incomplete outputs;
+//  R12 the last step is checkpointed when checkpoint_every divides it, and a restart from
+//     that checkpoint publishes the uninterrupted run's outputs;
+//  R13 a restart whose case spells out a default (density = 0 where the case gives none)
+//     or writes a number otherwise (1.0e-9 for 1e-9, 40.0 for 40) is the same case.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -270,7 +278,7 @@ TEST_F(CheckpointCli, ACheckpointOfAnotherCaseVersionOrKindIsRefused) {
     EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
   };
   refused(footing + " --set nonlinear_solver.tolerance=1e-8 --restart " + ck.string(),
-          "written for another case (nonlinear_solver.tolerance: checkpoint 1.0000000000000001e-09, this run 1e-08)");
+          "written for another case (nonlinear_solver.tolerance: the default in the checkpoint, 1e-08 in this run)");
   refused("run " + example("column_1d.toml") + " --restart " + ck.string(), "a 2D checkpoint; this case is 1D");
   refused("run " + example("bar_bimaterial.toml") + " --restart " + ck.string(), "is a 1D bar case");
   refused(footing + " --restart " + (dir / "none").string(), "no such checkpoint");
@@ -297,8 +305,64 @@ TEST_F(CheckpointCli, OnlyTheLatestCheckpointsStayAndStaleTemporariesGo) {
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir / "a.checkpoints")) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"step_000028", "step_000032", "step_000036"}));
-  EXPECT_NE(r.out.find("checkpoint " + (dir / "a").string() + ".checkpoints/step_000036"), std::string::npos) << r.out;
+  EXPECT_EQ(names, (std::vector<std::string>{"step_000032", "step_000036", "step_000040"}));
+  EXPECT_NE(r.out.find("checkpoint " + (dir / "a").string() + ".checkpoints/step_000040"), std::string::npos) << r.out;
+}
+
+TEST_F(CheckpointCli, TheLastStepIsCheckpointedAndARestartFromItPublishesTheRun) {
+  const std::string args = "run " + example("footing_2d.toml") + " -q --set output.checkpoint_every=10";
+  ASSERT_EQ(run_gradmpm(args + " --out " + (dir / "a").string()).code, 0);
+  const fs::path last = dir / "a.checkpoints" / "step_000040";
+  ASSERT_TRUE(fs::exists(last / "checkpoint.h5")) << "40 steps, a checkpoint every 10: none at step 40";
+  const CliResult r = run_gradmpm(args + " --out " + (dir / "b").string() + " --restart " + last.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(first_difference(dir / "a", dir / "b"), "");
+}
+
+TEST_F(CheckpointCli, ACheckpointWhoseOutputsAreIncompleteOrChangedIsRefused) {
+  const std::string args = "run " + example("footing_2d.toml") + " -q --set output.checkpoint_every=10 --set output.checkpoint_keep=0";
+  ASSERT_EQ(run_gradmpm(args + " --out " + (dir / "a").string()).code, 0);
+  auto refused = [&](int step, const std::string& fragment) {
+    const std::string from = (dir / "a.checkpoints" / fmt::format("step_{:06d}", step)).string();
+    const CliResult r = run_gradmpm(args + " --out " + (dir / "b").string() + " --restart " + from);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "b"));
+  };
+  // Each damage in its own checkpoint (the outputs are hard links: a file changed in one
+  // is changed in every checkpoint that holds it, and in the run's folder).
+  fs::remove(dir / "a.checkpoints" / "step_000010" / "outputs" / "points_0010.vtu");
+  refused(10, "its outputs/points_0010.vtu is missing");
+  const fs::path energy = dir / "a.checkpoints" / "step_000020" / "outputs" / "energy.csv";
+  std::string text = slurp(energy);
+  fs::remove(energy);  // (a file of its own, not the link)
+  std::ofstream(energy, std::ios::binary) << text.substr(0, text.size() - 1);
+  refused(20, "its outputs/energy.csv has " + std::to_string(text.size() - 1) + " bytes, the checkpoint recorded " +
+                  std::to_string(text.size()));
+  const fs::path grid = dir / "a.checkpoints" / "step_000030" / "outputs" / "grid_0030.vtu";
+  text = slurp(grid);
+  text[text.size() / 2] ^= 1;  // one flipped bit, the size kept
+  fs::remove(grid);
+  std::ofstream(grid, std::ios::binary) << text;
+  refused(30, "its outputs/grid_0030.vtu is not the file the checkpoint recorded: its CRC-32 differs");
+  // The undamaged checkpoint still restarts.
+  const std::string from = (dir / "a.checkpoints" / "step_000040").string();
+  EXPECT_EQ(run_gradmpm(args + " --out " + (dir / "c").string() + " --restart " + from).code, 0);
+}
+
+TEST_F(CheckpointCli, ACaseThatSpellsOutADefaultOrWritesANumberOtherwiseIsTheSameCase) {
+  const std::string args = "run " + example("column_2d.toml") + " -q --set output.plot=false --set output.checkpoint_every=10";
+  ASSERT_EQ(run_gradmpm(args + " --out " + (dir / "a").string()).code, 0);
+  const std::string from = (dir / "a.checkpoints" / "step_000010").string();
+  // the tolerance and checkpoint_keep at their defaults, which column_2d does not give, and
+  // density 1 for its 1.0
+  const CliResult r = run_gradmpm(args + " --set output.checkpoint_keep=2 --set nonlinear_solver.tolerance=1.0e-9" +
+                                  " --set materials.soil.density=1 --set 'loads.gravity=[0, -10]'" +
+                                  " --out " + (dir / "b").string() + " --restart " + from);
+  EXPECT_EQ(r.code, 0) << r.err;
+  const CliResult other = run_gradmpm(args + " --set output.checkpoint_keep=3 --out " + (dir / "c").string() + " --restart " + from);
+  EXPECT_EQ(other.code, 2) << other.err;
+  EXPECT_NE(other.err.find("output.checkpoint_keep: the default in the checkpoint, 3 in this run"), std::string::npos) << other.err;
 }
 
 TEST_F(CheckpointCli, ACheckpointOnAFullDiskStopsTheRunWithOneMessageAndLeavesNoPartOfIt) {

@@ -11,7 +11,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work"
 run() {
   "$mpiexec" --allow-run-as-root --oversubscribe -n "$ranks" "$gradmpm" run "$case" -q -j1 \
-    --set linear_solver.type=petsc --set output.vtk_every=1 --set output.checkpoint_every=2 "${extra[@]}" "$@"
+    --set linear_solver.type=petsc --set output.vtk_every=1 --set output.checkpoint_every=2 --set output.checkpoint_keep=0 "${extra[@]}" "$@"
 }
 run --out "$work/full"
 run --out "$work/again" --restart "$work/full.checkpoints/step_000002"

@@ -22,7 +22,7 @@ run() {  # run RANKS ARGS...: RANKS = 1 is a serial run, without mpirun
   local launch=()
   [ "$n" -gt 1 ] && launch=("$mpiexec" --allow-run-as-root --oversubscribe -n "$n")
   timeout 200 "${launch[@]}" "$gradmpm" run "$case" -q -j1 --set linear_solver.type=petsc \
-    --set output.checkpoint_every=2 "${extra[@]}" "$@"
+    --set output.checkpoint_every=2 --set output.checkpoint_keep=0 "${extra[@]}" "$@"
 }
 first=${FIRST_RANKS:-3}
 run "$first" --out "$work/three"

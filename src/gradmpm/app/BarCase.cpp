@@ -39,7 +39,8 @@ BarConfig read_bar_config(CaseFile& cf, BarOutputOptions& output, BarMpmConfig* 
   c.end_displacement = read_number(cf, "bar", bar.key("end_displacement"));
   c.points_per_element = static_cast<int>(read_integer(cf, "bar", bar.key("points_per_element")));
   require_memory(cf, "bar.elements", bar_memory_estimate(c.elements, c.points_per_element, mpm != nullptr),
-                 fmt::format("{} elements, {} points each{}", c.elements, c.points_per_element, mpm ? ", as MPM" : ""));
+                 fmt::format("{} elements, {} points each{}", c.elements, c.points_per_element, mpm ? ", as MPM" : ""),
+                 true);
 
   const SectionSpec& gradient = bar_gradient_section();
   c.variant = *parse_gradient_variant(read_string(cf, "gradient", gradient.key("variant")));

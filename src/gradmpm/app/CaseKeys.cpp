@@ -4,6 +4,7 @@
 
 #include "gradmpm/app/BarCase.hpp"
 #include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/io/CaseFile.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
 
@@ -210,7 +211,7 @@ const std::vector<SectionSpec>& mpm_sections() {
            .doc = "the box's displacement at load factor 1"},
           {.name = "penalty", .type = K::Number, .default_value = 100.0, .min = 0.0, .max = 1e8, .min_open = true,
            .allowed = "a number > 0 (at most 1e8)",
-           .doc = "alpha: contact stiffness k = alpha E / h per unit area (E the stiffest material's, h the smallest cell size); the penetration is q h / (alpha E)"}}},
+           .doc = "alpha: contact stiffness k = alpha E / h per unit area (E the stiffest material's, h the smallest cell size); the penetration is q h / (alpha E); above 1e3 round-off in the contact may keep Newton above its tolerance (the failure message then names this key)"}}},
         {"point_loads", SectionKind::Array, false, "forces on material points",
          {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
@@ -254,5 +255,37 @@ const SectionSpec& mpm_section(const std::string& name) {
 }
 
 // clang-format on
+
+namespace {
+const KeySpec* find_key(const std::vector<KeySpec>& keys, const std::string& name) {
+  for (const KeySpec& k : keys)
+    if (k.name == name) return &k;
+  return nullptr;
+}
+}  // namespace
+
+const KeySpec* mpm_key_spec(const CaseFile& cf, const std::string& key) {
+  const auto dot = key.find('.');
+  if (dot == std::string::npos) return nullptr;
+  const std::string head = key.substr(0, dot), rest = key.substr(dot + 1);
+  const std::string section = head.substr(0, head.find('['));  // "bodies[2]" -> "bodies"
+  for (const SectionSpec& s : mpm_sections()) {
+    if (s.name != section) continue;
+    if (s.kind != SectionKind::TableOfSections) return find_key(s.keys, rest);
+    // [materials.NAME]: the keys of the law that `model` names (names hold no '.').
+    const auto name_end = rest.find('.');
+    if (name_end == std::string::npos) return nullptr;
+    const std::string prefix = head + "." + rest.substr(0, name_end);
+    const std::string model = cf.has(prefix + ".model") ? cf.string(prefix + ".model") : "";
+    for (const MaterialInfo& law : MaterialRegistry::instance().all())
+      if (law.model == model) return find_key(law.keys, rest.substr(name_end + 1));
+    return nullptr;
+  }
+  return nullptr;
+}
+
+std::string mpm_canonical_text(const CaseFile& cf) {
+  return cf.canonical_text([&](const std::string& key) { return mpm_key_spec(cf, key); });
+}
 
 }  // namespace gradmpm

@@ -4,6 +4,7 @@
 // `gradmpm keys` renders docs/case-files.md's tables. Defaults that code building a
 // model without a case file also needs live in the settings structs (NewtonSettings,
 // LinearSolverSettings, MpmOutputSettings, ...) and are taken from there.
+#include <string>
 #include <vector>
 
 #include "gradmpm/io/Keys.hpp"
@@ -30,5 +31,11 @@ const SectionSpec& bar_mpm_section();
 /// keys of the law it names (MaterialRegistry).
 const std::vector<SectionSpec>& mpm_sections();
 const SectionSpec& mpm_section(const std::string& name);
+
+/// The declaration of a key of an MPM case ("load_steps.count", "bodies[2].min",
+/// "materials.soil.density": the law the section's `model` names), or nullptr.
+const KeySpec* mpm_key_spec(const CaseFile& cf, const std::string& key);
+/// CaseFile::canonical_text of an MPM case: keys given at their default dropped.
+std::string mpm_canonical_text(const CaseFile& cf);
 
 }  // namespace gradmpm

@@ -1,9 +1,12 @@
 #include "gradmpm/app/Checkpoint.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
+#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
@@ -11,6 +14,7 @@
 
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Ranks.hpp"
@@ -25,7 +29,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "gradmpm checkpoint";
-constexpr long long kFormatVersion = 2;  // 2: the points' layout and ids; a distributed run's point files
+// 2: the points' layout and ids; a distributed run's point files. 3: the outputs' CRC-32.
+constexpr long long kFormatVersion = 3;
 constexpr const char* kFile = "checkpoint.h5";
 const std::string kProgram = std::string("gradmpm ") + GRADMPM_VERSION;
 
@@ -64,10 +69,56 @@ std::string first_difference(const std::string& a, const std::string& b) {
   for (const auto& [k, v] : vb) keys.insert(k);
   for (const auto& k : keys) {
     const auto ia = va.find(k), ib = vb.find(k);
-    const std::string sa = ia == va.end() ? "not set" : ia->second, sb = ib == vb.end() ? "not set" : ib->second;
-    if (sa != sb) return fmt::format("{}: checkpoint {}, this run {}", k, sa, sb);
+    // (a key not in a canonical text is not given or given at its default)
+    const std::string sa = ia == va.end() ? "the default" : ia->second, sb = ib == vb.end() ? "the default" : ib->second;
+    if (sa != sb) return fmt::format("{}: {} in the checkpoint, {} in this run", k, sa, sb);
   }
   return "?";
+}
+
+/// The CRC-32 (zlib's) of a file's bytes; nullopt when it cannot be read.
+std::optional<unsigned long> crc32_of(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  uLong crc = crc32(0L, Z_NULL, 0);
+  std::vector<char> buffer(1 << 20);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(buffer.data()), static_cast<uInt>(in.gcount()));
+  }
+  if (in.bad()) return std::nullopt;
+  return crc;
+}
+
+/// Names of the recorded outputs, one per line (output files are named by the program).
+std::vector<std::string> recorded_names(const Archive& a) {
+  std::vector<std::string> names;
+  std::istringstream in(a.text("outputs_files/names"));
+  for (std::string line; std::getline(in, line);) names.push_back(line);
+  return names;
+}
+
+/// Throws InputError unless `outputs` holds every file `a` recorded, of its size and CRC-32.
+void check_outputs(const Archive& a, const fs::path& outputs, const std::string& where) {
+  const std::vector<std::string> names = recorded_names(a);
+  const auto n = static_cast<long long>(names.size());
+  const std::vector<long long>& sizes = a.integers("outputs_files/sizes", n);
+  const std::vector<long long>& crcs = a.integers("outputs_files/crc32", n);
+  for (long long k = 0; k < n; ++k) {
+    const fs::path file = outputs / names[k];
+    std::error_code ec;
+    const auto status = fs::status(file, ec);
+    const std::string damaged = fmt::format("{}: its outputs/{}", where, names[k]);
+    if (!fs::is_regular_file(status))
+      throw InputError(damaged + " is missing (damaged checkpoint: the restart would publish incomplete outputs)");
+    const auto size = static_cast<long long>(fs::file_size(file, ec));
+    if (ec || size != sizes[k])
+      throw InputError(fmt::format("{} has {} bytes, the checkpoint recorded {} (damaged checkpoint)", damaged,
+                                   ec ? -1 : size, sizes[k]));
+    const auto crc = crc32_of(file);
+    if (!crc || static_cast<long long>(*crc) != crcs[k])
+      throw InputError(damaged + " is not the file the checkpoint recorded: its CRC-32 differs (damaged checkpoint)");
+  }
 }
 
 /// One per-point array in an archive: doubles as they are, integers as 64-bit, fixed-size
@@ -125,7 +176,35 @@ CheckpointFolder::CheckpointFolder(fs::path folder, std::string shown, int every
   tag_.assign(told.begin(), told.end());
 }
 
-std::string CheckpointFolder::write(int step, const Archive& a, const Archive& points, const fs::path& outputs) const {
+void CheckpointFolder::record_outputs(Archive& a, const fs::path& outputs) const {
+  std::string names;
+  std::vector<long long> sizes, crcs;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(outputs))
+    if (e.is_regular_file()) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) throw OutputError(fmt::format("{}: cannot read its size", file.string()));
+    const long long mtime = static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec;
+    const std::string name = file.filename().string();
+    auto it = summed_.find(name);
+    if (it == summed_.end() || it->second.size != st.st_size || it->second.mtime != mtime ||
+        it->second.inode != static_cast<long long>(st.st_ino)) {
+      const auto crc = crc32_of(file);
+      if (!crc) throw OutputError(fmt::format("{}: cannot read it to sum it", file.string()));
+      it = summed_.insert_or_assign(name, Summed{st.st_size, mtime, static_cast<long long>(st.st_ino), *crc}).first;
+    }
+    names += name + "\n";
+    sizes.push_back(it->second.size);
+    crcs.push_back(static_cast<long long>(it->second.crc));
+  }
+  a.put_text("outputs_files/names", names);
+  a.put("outputs_files/sizes", std::move(sizes));
+  a.put("outputs_files/crc32", std::move(crcs));
+}
+
+std::string CheckpointFolder::write(int step, Archive& a, const Archive& points, const fs::path& outputs) const {
   const bool root = ranks::rank() == 0;
   const std::string name = fmt::format("step_{:06d}", step);
   const fs::path final_path = folder_ / name, tmp = folder_ / fmt::format(".{}.tmp-{}", name, tag_);
@@ -149,8 +228,9 @@ std::string CheckpointFolder::write(int step, const Archive& a, const Archive& p
     ranks::stop_if_any<OutputError>(problem);
   }
   if (root) try {
-      write_hdf5_archive(tmp / kFile, a);
       link_files(outputs, tmp / "outputs");
+      record_outputs(a, tmp / "outputs");  // what was linked: a restart checks it is there whole
+      write_hdf5_archive(tmp / kFile, a);
       fsync_path(tmp / kFile, shown);
       fsync_path(tmp / "outputs", shown);
       fsync_path(tmp, shown);
@@ -211,6 +291,7 @@ Restart read_checkpoint(const fs::path& path, const std::string& case_text, int 
                     where, first_difference(a.text("case"), case_text)));
   if (!fs::is_directory(r.outputs))
     throw InputError(fmt::format("{}: its outputs folder {} is missing", where, r.outputs.string()));
+  check_outputs(a, r.outputs, where);
   if (a.has("threads")) r.threads = static_cast<int>(a.integer("threads"));
   return r;
 }

@@ -14,11 +14,14 @@
 //   points_RRRR.h5  a distributed run's points, one file per rank, written by that rank
 //                   (the points it owns, as above): no rank ever holds every point
 //   outputs/        the run's output files as they were at that step (hard links, so no
-//                   copy and no extra disk space for VTU files written once)
+//                   copy and no extra disk space for VTU files written once); checkpoint.h5
+//                   records each one's name, size and CRC-32, and a restart refuses a
+//                   checkpoint whose outputs/ lacks a file or holds another one
 // A checkpoint folder is written under a temporary name and renamed into place when it
 // is complete and flushed to disk (in a distributed run: when every rank's file is):
 // kill -9 at any moment leaves the earlier checkpoints whole (and a temporary that the
-// next run removes). The last `checkpoint_keep` are kept.
+// next run removes). The last `checkpoint_keep` are kept. The last step is checkpointed
+// too when `checkpoint_every` divides its number (a restart from it only publishes).
 //
 // `gradmpm run CASE --restart DIR.checkpoints/step_NNNNNN` (or its checkpoint.h5) reads
 // the same case, replaces the points and the driver's state by the checkpoint's, starts
@@ -28,7 +31,8 @@
 // (serial included): each rank keeps the checkpoint's points that lie in its cells,
 // reading only the files whose points' cells meet its own (checkpoint.h5 lists each
 // file's range of cells): its own file alone when the ranks are as many. A checkpoint of
-// another case (compared as the TOML the program read, overrides included), another
+// another case (compared as the values the program read, overrides included, a key given
+// at its default as one not given: app/CaseKeys.hpp mpm_canonical_text), another
 // dimension or another program version is refused (exit 2) with the difference.
 #include <filesystem>
 #include <map>
@@ -49,19 +53,28 @@ class CheckpointFolder {
   /// `folder`: where checkpoints go (DIR.checkpoints); `shown` names it in messages.
   /// Removes temporaries that a killed run left there.
   CheckpointFolder(std::filesystem::path folder, std::string shown, int every, int keep);
-  bool due(const StepInfo& info) const { return every_ > 0 && !info.last && info.step % every_ == 0; }
-  /// Writes the checkpoint of `step`: `a` (rank 0's), `points` (each rank's file in a
-  /// distributed run; empty serially) and hard links to the files of `outputs`. Atomic;
-  /// then removes the oldest beyond `keep`. Returns the folder's name as shown. A
-  /// collective call in a distributed run: a rank that cannot write stops every rank with
-  /// its message.
-  std::string write(int step, const Archive& a, const Archive& points, const std::filesystem::path& outputs) const;
+  bool due(const StepInfo& info) const { return every_ > 0 && info.step % every_ == 0; }
+  /// Writes the checkpoint of `step`: `a` (rank 0's; the outputs' sizes and CRC-32 are
+  /// added to it), `points` (each rank's file in a distributed run; empty serially) and
+  /// hard links to the files of `outputs`. Atomic; then removes the oldest beyond `keep`.
+  /// Returns the folder's name as shown. A collective call in a distributed run: a rank
+  /// that cannot write stops every rank with its message.
+  std::string write(int step, Archive& a, const Archive& points, const std::filesystem::path& outputs) const;
 
  private:
   std::filesystem::path folder_;
+  /// Puts the name, size and CRC-32 of every file in `outputs` into `a`.
+  void record_outputs(Archive& a, const std::filesystem::path& outputs) const;
   std::string shown_;
   int every_, keep_;
   std::string tag_;  ///< of the temporaries' names: rank 0's process id
+  /// The CRC-32 of output files already summed, by name, with the size, modification time
+  /// and inode they had: a VTU file written once is read once, not at every checkpoint.
+  struct Summed {
+    long long size, mtime, inode;
+    unsigned long crc;
+  };
+  mutable std::map<std::string, Summed> summed_;
 };
 
 /// A checkpoint read for a restart.
@@ -73,8 +86,9 @@ struct Restart {
 };
 
 /// Reads `path` (a step_NNNNNN folder or its checkpoint.h5) and checks that it belongs to
-/// this program version, this dimension and this case (`case_text`, CaseFile::canonical_text);
-/// throws InputError naming what differs.
+/// this program version, this dimension and this case (`case_text`, CaseFile::canonical_text)
+/// and that its outputs/ holds the files it recorded, of their sizes and CRC-32; throws
+/// InputError naming what differs.
 Restart read_checkpoint(const std::filesystem::path& path, const std::string& case_text, int dim);
 
 /// The header every checkpoint starts with: format, program version, case text, dimension,

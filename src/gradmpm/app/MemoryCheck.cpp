@@ -3,6 +3,7 @@
 #include "gradmpm/core/Ranks.hpp"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,12 @@
 #include <fstream>
 
 namespace gradmpm {
+
+double peak_resident_memory() {
+  rusage usage{};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // (kilobytes on Linux)
+}
 
 std::uint64_t memory_available() {
   std::uint64_t bytes = 0;
@@ -30,7 +37,8 @@ std::uint64_t memory_available() {
   return bytes;
 }
 
-void require_memory(const CaseFile& cf, const std::string& key, double bytes, const std::string& what) {
+void require_memory(const CaseFile& cf, const std::string& key, double bytes, const std::string& what,
+                    bool lower_bound) {
   // A distributed run: every rank decides from the same number (the smallest any rank
   // read; 0, unknown, if any could not), so every rank meets the same error.
   double negative = -static_cast<double>(memory_available());
@@ -39,24 +47,33 @@ void require_memory(const CaseFile& cf, const std::string& key, double bytes, co
   if (available == 0 || bytes <= static_cast<double>(available)) return;
   constexpr double gib = 1024.0 * 1024.0 * 1024.0;
   cf.require(false, key,
-             fmt::format("a case that fits in memory: it needs at least {:.3g} GiB ({}), more than the {:.3g} GiB "
+             fmt::format("a case that fits in memory: it needs {} {:.3g} GiB ({}), more than the {:.3g} GiB "
                          "available",
-                         bytes / gib, what, static_cast<double>(available) / gib));
+                         lower_bound ? "at least" : "about", bytes / gib, what, static_cast<double>(available) / gib));
 }
 
 double mpm_memory_estimate(int dim, double points, double cells, double nodes, bool grid_output,
                            double share, int on_this_machine) {
-  // Per point (positions, F, stress, state, stencil, response, gradients): measured 1.8 KB
-  // in 2D with the factorisation; lower bounds 0.5, 1, 2.5 KB in 1D, 2D, 3D.
-  const double per_point = dim == 1 ? 500.0 : (dim == 2 ? 1000.0 : 2500.0);
-  // Per grid node: the dof map and nodal fields (16 B), the grid VTU text (~100 B).
-  const double per_node = 16.0 + (grid_output ? 100.0 : 0.0);
-  // Tangent entries (12 B each) of the active dofs: at least one active node per covered
-  // cell, 5^dim coupled nodes per node, dim^2 entries per node pair.
-  const double entries = cells * std::pow(5.0, dim) * dim * dim;
+  // Fitted to the peak resident memory of elastic blocks under gravity (GIMP, 1 to 3
+  // points per cell per direction; 1e4 to 4e5 cells in 2D, 1e3 to 3e4 in 3D) and of a
+  // footing on grids of 1e6 to 4e6 mostly empty nodes, each within 20 % (docs/reliability.md):
+  //  - the program and its libraries: 34 MB per process;
+  //  - per point: positions, F, stress, state, stencil, response: 1.0 KB in 2D, 2.3 KB in 3D;
+  //  - per covered cell: the tangent's entries (GIMP couples 5^dim nodes, dim^2 entries per
+  //    pair), its factor and the nodal arrays of the active nodes: 3.1 KB in 2D; in 3D
+  //    13.5 KB plus the factor's fill, which grows as the cube root of the cells (nested
+  //    dissection: 0.75 KB times it);
+  //  - per grid node, covered or not: the nodal fields of the step's reactions and outputs
+  //    (displacement, reaction, mass: 40 B) and the dof map's pages, 45 B; the grid VTU
+  //    file built in memory, 280 B more.
+  const double base = 34e6;
+  const double per_point = dim == 1 ? 500.0 : (dim == 2 ? 1000.0 : 2300.0);
+  const double my_cells = share * cells;
+  const double per_cell = dim == 1 ? 200.0 : (dim == 2 ? 3100.0 : 13500.0 + 750.0 * std::cbrt(std::max(my_cells, 1.0)));
+  const double per_node = 45.0 + (grid_output ? 280.0 : 0.0);
   // The ranks on this machine share its memory: each holds its share of the points and of
   // the tangent, and every grid-sized vector whole.
-  return on_this_machine * (share * (points * per_point + 12.0 * entries) + nodes * per_node);
+  return on_this_machine * (base + share * points * per_point + my_cells * per_cell + nodes * per_node);
 }
 
 double bar_memory_estimate(double elements, int points_per_element, bool as_mpm) {

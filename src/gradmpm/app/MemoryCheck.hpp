@@ -4,9 +4,8 @@
 // machine has available (MemAvailable; GRADMPM_MAX_MEMORY, in GiB, sets a lower limit), is
 // refused with exit 2 and the estimate, before it is OOM-killed or fails with bad_alloc.
 //
-// The estimates are lower bounds from measured peaks (docs/reliability.md): they leave out
-// the factorisation's fill-in, so a refused case could not have run, and a case that fits
-// may still need more.
+// The MPM estimate is fitted to measured peaks (docs/reliability.md) and a run prints it
+// beside its own peak; the bar's is a lower bound.
 #include <cstdint>
 #include <string>
 
@@ -14,17 +13,22 @@
 
 namespace gradmpm {
 
+/// The process's peak resident memory so far (getrusage), in bytes.
+double peak_resident_memory();
+
 /// Bytes the process may use: min(MemAvailable, GRADMPM_MAX_MEMORY GiB); 0 when unknown.
 std::uint64_t memory_available();
 
 /// InputError on `key` when `bytes` exceeds memory_available(); `what` says what the
-/// estimate counts ("1.2e9 points, 3.4e9 dofs").
-void require_memory(const CaseFile& cf, const std::string& key, double bytes, const std::string& what);
+/// estimate counts ("1.2e9 points, 3.4e9 dofs"); `lower_bound`: the message says "at least",
+/// not "about".
+void require_memory(const CaseFile& cf, const std::string& key, double bytes, const std::string& what,
+                    bool lower_bound = false);
 
-/// Lower bound of an MPM run's peak memory on this machine: points, grid nodes (dof map,
-/// grid outputs) and the tangent's entries of the `cells` the bodies cover (GIMP couples 5
-/// nodes per direction), no fill-in. A distributed run's `on_this_machine` ranks share the
-/// machine, each with `share` of the points and the tangent (1 / ranks) and every grid node.
+/// An MPM run's peak memory on this machine: the program, the points, the tangent and its
+/// factor over the `cells` the bodies cover, and the grid's nodes (their fields, the grid
+/// VTU files). A distributed run's `on_this_machine` ranks share the machine, each with
+/// `share` of the points and the tangent (1 / ranks) and every grid node.
 double mpm_memory_estimate(int dim, double points, double cells, double nodes, bool grid_output, double share = 1.0,
                            int on_this_machine = 1);
 

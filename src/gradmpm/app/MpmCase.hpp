@@ -40,6 +40,7 @@ struct MpmCase {
   NewtonSettings newton;
   GradientSettings gradient;
   MpmOutputSettings output;
+  double memory_estimate = 0.0;  ///< bytes one process is estimated to need at its peak (app/MemoryCheck.hpp)
 };
 
 /// Spatial dimension of an MPM case (the length of grid.cells).

@@ -452,7 +452,9 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     cf.require(vertical, "output.check", "\"column\" only with gravity along -" + std::string(kAxes[dim - 1]));
   }
   m.initialise_state();
-  return MpmCase<dim>{std::move(m), newton, gradient, output};
+  // (one process's share of the machine's estimate, which a run prints beside its peak)
+  const double memory = mpm_memory_estimate(dim, planned_points, planned_cells, nodes, grid_output, share, 1);
+  return MpmCase<dim>{std::move(m), newton, gradient, output, memory};
 }
 
 template MpmCase<1> read_mpm_case<1>(CaseFile&, bool);

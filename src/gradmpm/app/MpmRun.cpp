@@ -16,8 +16,10 @@
 #include <optional>
 #include <sstream>
 
+#include "gradmpm/app/CaseKeys.hpp"
 #include "gradmpm/app/Checkpoint.hpp"
 #include "gradmpm/app/ColumnCheck.hpp"
+#include "gradmpm/app/MemoryCheck.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/app/PointColumns.hpp"
 #include "gradmpm/core/Errors.hpp"
@@ -145,6 +147,25 @@ void print_step(const StepInfo& info) {
   std::fflush(stdout);
 }
 
+/// A stalled Newton with a stiff rigid box: the likely cause, said in the failure message.
+/// Its contact stiffness is penalty x E / h, and the round-off of a penetration of h /
+/// (penalty E) per unit pressure sets a floor under the residual: the platen block stalls
+/// at 1e-7 with penalty 1e4, where 1e-9 is asked, and converges with 3e3 or less.
+std::string penalty_hint(const CaseFile& cf, const std::string& failure) {
+  if (failure.find("no convergence") == std::string::npos) return "";
+  constexpr double stiff = 1e3;
+  for (std::size_t k = 0; k < cf.array_size("rigid_boxes"); ++k) {
+    const std::string key = fmt::format("rigid_boxes[{}].penalty", k);
+    const double penalty = read_number(cf, fmt::format("rigid_boxes[{}]", k), mpm_section("rigid_boxes").key("penalty"));
+    if (penalty > stiff)
+      return fmt::format(
+          "; {} = {:g} is the likely cause: a contact that stiff leaves round-off above the tolerance; try "
+          "{:g} or less (the default is 100), or a larger nonlinear_solver.tolerance",
+          key, penalty, stiff);
+  }
+  return "";
+}
+
 template <int dim>
 void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   const bool quiet = options.quiet;
@@ -152,7 +173,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
   // CSV files, checkpoints or plots of their own: at 1000 ranks, 999 plots).
   const bool writes = ranks::rank() == 0;
   const fs::path shown = options.shown.empty() ? dir : options.shown;
-  const std::string case_text = cf.canonical_text();
+  const std::string case_text = mpm_canonical_text(cf);  // a default spelt out is no other case
   // A distributed run's rank makes only its own points (a restart replaces them by the
   // checkpoint's points in its cells).
   MpmCase<dim> c = read_mpm_case<dim>(cf, ranks::distributed());
@@ -219,7 +240,7 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
       // Per set: the reactions and increments summed over its active nodes, and their
       // count. A distributed run's ranks sum the nodes they own (the fields are right
       // there), then the sums are added over the ranks: nothing is gathered whole.
-      const Vector R = info.grid_reaction(), du = info.grid_displacement();
+      const Vector &R = info.grid_reaction(), &du = info.grid_displacement();
       const bool split = !m.rank_boxes.empty();
       // A distributed run's fields are at the nodes listed (the active ones it knows).
       const std::vector<int> listed = split ? info.grid_nodes() : std::vector<int>{};
@@ -428,8 +449,9 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
           c.gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step.seconds(),
           100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
     if (!quiet)
-      fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s\n", summary.steps,
-                 summary.total_iterations, summary.cuts, seconds_since(t0));
+      fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s; {}peak memory {:.0f} MiB (estimated {:.0f} MiB)\n",
+                 summary.steps, summary.total_iterations, summary.cuts, seconds_since(t0),
+                 ranks::distributed() ? "rank 0's " : "", peak_resident_memory() / 1048576.0, c.memory_estimate / 1048576.0);
     if (reports && output.plot) {
       StagedOutputs out(dir);
       const auto csv = out.write_text("reactions.csv", reactions);
@@ -442,9 +464,11 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
       const std::string line = column_check(m, dir, output.plot);
       if (!quiet) fmt::print("  {}\n", line);
     }
-  } catch (const SolverError&) {
+  } catch (const SolverError& e) {
     if (!quiet) fmt::print("  stopped; the files of the converged steps go to {}\n", shown.string());
-    throw;
+    const std::string hint = penalty_hint(cf, e.what());
+    if (hint.empty()) throw;
+    throw SolverError(std::string(e.what()) + hint);
   }
 }
 

@@ -228,7 +228,7 @@ std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info)
   const std::size_t nn = split ? at.size() : static_cast<std::size_t>(m.grid.num_nodes());
   VtkField du{"displacement_increment", 3, std::vector<double>(3 * nn, 0.0)}, mass{"mass", 1, std::vector<double>(nn, 0.0)};
   if (info) {
-    const Vector u = info->grid_displacement(), nodal_mass = info->grid_mass();
+    const Vector &u = info->grid_displacement(), &nodal_mass = info->grid_mass();
     const std::vector<int> listed = split ? info->grid_nodes() : std::vector<int>{};
     for (std::size_t k = 0; k < nn; ++k) {
       Eigen::Index n = static_cast<Eigen::Index>(k);  // where the k-th point's values are

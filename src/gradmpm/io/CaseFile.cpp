@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 
 #include "gradmpm/core/Errors.hpp"
 
@@ -402,23 +403,54 @@ std::vector<std::string> CaseFile::string_list(const std::string& key) const {
 }
 
 namespace {
-/// "section.key = value" for every value under `n` (arrays of tables by index).
-void flatten(const toml::node& n, const std::string& path, std::vector<std::string>& lines) {
+/// A value as text in which numbers are the values they are (1, 1.0 and 1e0 read alike:
+/// as the shortest text of the double) and arrays list their values so.
+std::string canonical_value(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return fmt::format("{}", static_cast<double>(i->get()));
+  if (const auto* d = n.as_floating_point()) return fmt::format("{}", d->get());
+  if (const toml::array* a = n.as_array()) {
+    std::string text = "[";
+    for (std::size_t k = 0; k < a->size(); ++k) text += (k ? ", " : "") + canonical_value(*a->get(k));
+    return text + "]";
+  }
+  std::ostringstream value;
+  n.visit([&](const auto& x) { value << x; });
+  return value.str();
+}
+
+/// The declared default as canonical_value writes a value.
+std::string canonical_default(const KeySpec& spec) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::string>) return canonical_value(toml::value<std::string>(v));
+        else if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
+        else return fmt::format("{}", static_cast<double>(v));
+      },
+      *spec.default_value);
+}
+
+/// (key, value) for every value under `n` (arrays of tables by index: "bodies[0].min").
+void flatten(const toml::node& n, const std::string& path, std::vector<std::pair<std::string, std::string>>& lines) {
   if (const toml::table* t = n.as_table()) {
     for (auto&& [k, v] : *t) flatten(v, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str()), lines);
   } else if (const toml::array* a = n.as_array(); a && !a->empty() && a->is_array_of_tables()) {
     for (std::size_t i = 0; i < a->size(); ++i) flatten(*a->get(i), fmt::format("{}[{}]", path, i), lines);
   } else {
-    std::ostringstream value;
-    n.visit([&](const auto& x) { value << x; });
-    lines.push_back(path + " = " + value.str());
+    lines.emplace_back(path, canonical_value(n));
   }
 }
 }  // namespace
 
-std::string CaseFile::canonical_text() const {
+std::string CaseFile::canonical_text(const std::function<const KeySpec*(const std::string& key)>& spec_of) const {
+  std::vector<std::pair<std::string, std::string>> values;
+  flatten(table_, "", values);
   std::vector<std::string> lines;
-  flatten(table_, "", lines);
+  for (const auto& [key, value] : values) {
+    const KeySpec* spec = spec_of ? spec_of(key) : nullptr;
+    if (spec && spec->default_value && canonical_default(*spec) == value) continue;
+    lines.push_back(key + " = " + value);
+  }
   std::sort(lines.begin(), lines.end());
   std::string text;
   for (const auto& l : lines) text += l + "\n";

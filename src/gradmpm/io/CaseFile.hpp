@@ -6,6 +6,7 @@
 // Sections declare their keys up front, so a misspelt key is reported as unknown
 // (with the list of valid keys) before anything else is read.
 #include <filesystem>
+#include <functional>
 #include <initializer_list>
 #include <map>
 #include <optional>
@@ -30,8 +31,11 @@ class CaseFile {
 
   const std::string& name() const { return name_; }
   /// The case as read, overrides applied: one sorted line "section.key = value" per value
-  /// (comments and layout dropped). What a checkpoint records and a restart compares.
-  std::string canonical_text() const;
+  /// (comments and layout dropped; numbers as the values they are, so 0, 0.0 and 0e0 read
+  /// alike). `spec_of` (optional) gives a key's declaration ("bodies[0].points_per_cell"):
+  /// a key whose value is its declared default is dropped, so spelling out a default does
+  /// not make another case. What a checkpoint records and a restart compares.
+  std::string canonical_text(const std::function<const KeySpec*(const std::string& key)>& spec_of = {}) const;
   bool has_section(std::string_view section) const;
   /// Drops a top-level section, if present: the case without it (the classical run of a
   /// regularised case, where type = "none" with the section's other keys is refused).

@@ -241,12 +241,12 @@ struct StepInfo {
   /// is collective (every rank must make it: the corners other ranks own are fetched
   /// from them). Serially grid_nodes() is empty: the values are at every grid node.
   std::function<std::vector<int>()> grid_nodes;
-  std::function<Vector()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
-  std::function<Vector()> grid_mass;          ///< nodal mass sum_p N_i m_p (eq. 1)
+  std::function<const Vector&()> grid_displacement;  ///< the step's displacement increment at every grid node (dim per node)
+  std::function<const Vector&()> grid_mass;       ///< nodal mass sum_p N_i m_p (eq. 1)
   std::function<std::vector<bool>()> grid_active;  ///< the nodes the step solved for (in some point's stencil)
   /// f_int - f_ext at the converged iterate at every grid node (dim per node): the
   /// reaction forces on constrained components (~0 elsewhere; zero on inactive nodes).
-  std::function<Vector()> grid_reaction;
+  std::function<const Vector&()> grid_reaction;
   /// The force each rigid box exerts on the body at the converged iterate (dim per box).
   std::function<Vector()> rigid_forces;
   double seconds = 0.0;        ///< the load step, its cuts included, without the post-step stages

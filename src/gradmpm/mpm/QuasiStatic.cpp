@@ -485,9 +485,9 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       return *grid;
     };
     info.grid_nodes = [&] { return fields().nodes; };
-    info.grid_displacement = [&] { return fields().displacement; };
-    info.grid_reaction = [&] { return fields().reaction; };
-    info.grid_mass = [&] { return fields().mass; };
+    info.grid_displacement = [&]() -> const Vector& { return fields().displacement; };  // (no whole-grid copy per caller)
+    info.grid_reaction = [&]() -> const Vector& { return fields().reaction; };
+    info.grid_mass = [&]() -> const Vector& { return fields().mass; };
     info.grid_active = [&] {
       std::vector<bool> active(model.grid.num_nodes());
       for (int n = 0; n < model.grid.num_nodes(); ++n) active[n] = step->dofs().active(n);
