@@ -34,8 +34,8 @@
 // less what ran at the same time: with CHOLMOD the step's analysis runs on one thread
 // while the others assemble its first tangent (run_beside), and both phases count it.
 // ratio = (wall - factor - solve) / (factor + solve): everything that is not the numeric
-// factorisation and solve, against them (before issue 13's last session: the phases
-// pattern + assembly + analysis + update only, which left the uncounted work out).
+// factorisation and solve, against them (wall, not the sum of the timed phases, so the
+// work no phase times counts too).
 // Under mpirun (R ranks, the `ranks` column) the figures are rank 0's: its phases include
 // its waits in the sums over the ranks, so they show the slowest rank's pace; peak_mib is
 // rank 0's process (each rank makes and holds its own points); `points` is the body's.

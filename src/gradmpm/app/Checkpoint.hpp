@@ -1,5 +1,5 @@
 #pragma once
-// Checkpoint and restart of MPM runs (issue 12, point 2; issue 14 for distributed runs).
+// Checkpoint and restart of MPM runs, serial and distributed.
 //
 // `[output] checkpoint_every = N` makes a run write, after every N-th converged load step,
 // a checkpoint folder DIR.checkpoints/step_NNNNNN beside its output folder DIR:

@@ -1,6 +1,6 @@
 #pragma once
-// Sizes checked before anything is allocated (issue 12, point 3): a case whose grid cannot
-// be numbered in 32-bit dofs, or whose lower-bound memory estimate exceeds the memory the
+// Sizes checked before anything is allocated: a case whose grid cannot
+// be numbered in 32-bit dofs, or whose memory estimate exceeds the memory the
 // machine has available (MemAvailable; GRADMPM_MAX_MEMORY, in GiB, sets a lower limit), is
 // refused with exit 2 and the estimate, before it is OOM-killed or fails with bad_alloc.
 //

@@ -1,6 +1,6 @@
 #pragma once
 // The MPI ranks of a distributed run (`mpirun -n N gradmpm run ...`, docs/parallel.md)
-// and the few collective operations the driver needs. Without a session (a serial run, a
+// and the few collective operations the driver needs. Without an MPI session (a serial run, a
 // test program, a build without PETSc and MPI) there is one rank and every operation is
 // the identity, so serial code calls them unconditionally.
 //
@@ -24,12 +24,12 @@
 
 namespace gradmpm::ranks {
 
-/// Ranks of the session (1 when none is started).
+/// Ranks of the MPI session (1 when none is started).
 int size();
 /// This process's rank (0 when none is started).
 int rank();
 inline bool distributed() { return size() > 1; }
-/// Ranks of the session on this process's machine (MPI_COMM_TYPE_SHARED; 1 when none is started).
+/// Ranks of the MPI session on this process's machine (MPI_COMM_TYPE_SHARED; 1 when none is started).
 int on_this_machine();
 
 /// MPI started for the life of main when this process was launched as one of several

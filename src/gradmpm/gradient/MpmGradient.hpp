@@ -1,5 +1,5 @@
 #pragma once
-// The Ru-Aifantis gradient step inside the MPM (issue 4; docs/gradient-study.md).
+// The Ru-Aifantis gradient step inside the MPM (docs/gradient-study.md).
 //
 // The split is one-way: the classical MPM solve never sees the gradient fields. After a
 // load step (or at the end) a classical field c is smoothed by (M + l^2 L) g = f, with M

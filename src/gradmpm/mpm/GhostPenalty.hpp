@@ -53,7 +53,7 @@ class GhostFaces {
   /// lowest node it owns (each face in one rank's share, its nodes near the rank's rows),
   /// those between a cell of its box and the next cell up in x, y or z, and learns the
   /// occupancy of such a next cell in another rank's box from that rank (neighbour
-  /// messages; before 2026-12-05, a max over every cell of the grid on every rank).
+  /// messages, not a max over every cell of the grid on every rank).
   GhostFaces(const Grid<dim>& grid, const MaterialPoints<dim>& pts,
              const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
              const RankBoxes& boxes = {}) {

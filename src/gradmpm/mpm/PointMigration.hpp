@@ -1,5 +1,5 @@
 #pragma once
-// How a distributed run's points move between ranks (docs/parallel.md, issue 14).
+// How a distributed run's points move between ranks (docs/parallel.md).
 //
 // Each rank owns the points in its box of the grid's cells (mpm/RankPoints.hpp) and holds
 // only them, with every per-point array that goes with them: the points' own arrays and

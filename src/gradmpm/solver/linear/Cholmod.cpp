@@ -175,9 +175,9 @@ class CholmodSolver final : public LinearSolver {
   /// read twice: to count the entries of each column of S_, then to place them. The
   /// entries that cholmod_factorize's transpose would make (A(i, j) goes to column
   /// min(p(i), p(j)), row max), each column's rows in another order, which
-  /// cholmod_super_numeric does not need (it assigns each entry to its place in L). Until
-  /// 2026-12-06 CHOLMOD's transpose made S_ from the positions written as doubles (an array
-  /// of 8 bytes per entry of A kept for it, 24 MB at 1e5 dof in 2D).
+  /// cholmod_super_numeric does not need (it assigns each entry to its place in L).
+  /// CHOLMOD's own transpose would carry the positions as doubles: an array of 8 bytes per
+  /// entry of A, 24 MB at 1e5 dof in 2D.
   void permuted_lower(const SparseMatrix& A, const int* perm) {
     const int n = static_cast<int>(A.rows());
     const int* outer = A.outerIndexPtr();
