@@ -29,6 +29,34 @@ int mpm_case_dimension(const CaseFile& cf) {
 namespace {
 
 constexpr const char* kAxes[3] = {"x", "y", "z"};
+/// The largest count numbered in an int (dofs, points): 2^31 - 1.
+constexpr double kLargestIndex = std::numeric_limits<int>::max();
+
+/// What the memory estimate needs besides the points and cells (app/MemoryCheck.hpp).
+struct MemoryContext {
+  int dim = 1;
+  double nodes = 0.0;
+  bool grid_output = false;
+  double share = 1.0;       ///< of the points and the tangent on this rank: 1 / ranks
+  int on_this_machine = 1;  ///< ranks sharing this machine's memory
+  std::string machine_ranks;  ///< ", 2 of the 4 ranks on this machine" in messages
+  double estimate(double points, double cells) const {
+    return mpm_memory_estimate(dim, points, cells, nodes, grid_output, share, on_this_machine);
+  }
+};
+
+MemoryContext memory_context(const CaseFile& cf, int dim, double nodes) {
+  MemoryContext c;
+  c.dim = dim;
+  c.nodes = nodes;
+  c.grid_output = read_integer(cf, "output", mpm_section("output").key("vtk_every")) > 0;
+  // A distributed run's ranks on one machine: each its share of the points and the tangent.
+  c.share = 1.0 / ranks::size();
+  c.on_this_machine = ranks::on_this_machine();
+  if (ranks::distributed())
+    c.machine_ranks = fmt::format(", {} of the {} ranks on this machine", c.on_this_machine, ranks::size());
+  return c;
+}
 
 template <int dim>
 Vec<dim> vec(const CaseFile& cf, const std::string& key) {
@@ -116,59 +144,51 @@ void read_regularisation(const CaseFile& cf, const std::vector<std::string>& nam
              "\"none\" when no material softens (hardening < 0): implicit-gradient regularises softening laws only");
 }
 
-}  // namespace
+/// [grid]: the grid, checked to be numbered in 32-bit dofs and to fit in memory before
+/// it exists. Also the sizes later checks need.
+template <int dim>
+struct GridRead {
+  typename Grid<dim>::Index n;
+  Vec<dim> origin, h, hi;  ///< the lower and upper corners, the cell sizes
+  double nodes = 0.0;      ///< in 64 bits
+  MemoryContext memory;
+};
 
 template <int dim>
-MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
-  for (const auto& s : mpm_sections())
-    if (s.name == "linear_solver")
-      declare_linear_solver_section(cf);
-    else
-      cf.declare(s);
-  cf.reject_unknown();
-  const GradientSettings gradient_settings = read_gradient_settings(cf);
-
-  // --- grid
+GridRead<dim> read_grid(const CaseFile& cf) {
+  GridRead<dim> g;
   const auto cells = cf.integer_list("grid.cells");
-  typename Grid<dim>::Index n;
   for (int d = 0; d < dim; ++d) {
     cf.require(cells[d] >= 1 && cells[d] <= 10'000'000, "grid.cells", mpm_section("grid").key("cells").expected());
-    n[d] = static_cast<int>(cells[d]);
+    g.n[d] = static_cast<int>(cells[d]);
   }
-  const Vec<dim> origin = vec<dim>(cf, "grid.origin");
-  Vec<dim> h;  // one size for all directions, or one per direction
-  if (cf.is_array("grid.cell_size"))
-    h = vec<dim>(cf, "grid.cell_size");
+  g.origin = vec<dim>(cf, "grid.origin");
+  if (cf.is_array("grid.cell_size"))  // one size for all directions, or one per direction
+    g.h = vec<dim>(cf, "grid.cell_size");
   else
-    h.setConstant(cf.number("grid.cell_size"));
-  cf.require((h.array() > 0.0).all(), "grid.cell_size", mpm_section("grid").key("cell_size").expected());
+    g.h.setConstant(cf.number("grid.cell_size"));
+  cf.require((g.h.array() > 0.0).all(), "grid.cell_size", mpm_section("grid").key("cell_size").expected());
+  for (int d = 0; d < dim; ++d) g.hi[d] = g.origin[d] + g.n[d] * g.h[d];
   // Sizes in 64 bits before anything is allocated: the dofs are numbered in 32-bit ints.
-  double nodes = 1.0;
-  for (int d = 0; d < dim; ++d) nodes *= static_cast<double>(cells[d]) + 1.0;
-  cf.require(nodes * dim < 2147483647.0, "grid.cells",
+  g.nodes = 1.0;
+  for (int d = 0; d < dim; ++d) g.nodes *= static_cast<double>(cells[d]) + 1.0;
+  cf.require(g.nodes * dim <= kLargestIndex, "grid.cells",
              fmt::format("a grid of at most {:.4g} nodes ({} dofs per node, numbered in 32 bits); this one has {:.4g}",
-                         std::floor(2147483647.0 / dim), dim, nodes));
-  const bool grid_output = read_integer(cf, "output", mpm_section("output").key("vtk_every")) > 0;
-  // A distributed run's ranks on one machine: each its share of the points and the tangent.
-  const double share = 1.0 / ranks::size();
-  const int on_this_machine = ranks::on_this_machine();
-  const std::string machine_ranks =
-      ranks::distributed() ? fmt::format(", {} of the {} ranks on this machine", on_this_machine, ranks::size()) : "";
-  require_memory(
-      cf, "grid.cells", mpm_memory_estimate(dim, 0.0, 0.0, nodes, grid_output, share, on_this_machine),
-      fmt::format("{:.3g} grid nodes{}{}", nodes, grid_output ? " written to grid VTU files" : "", machine_ranks));
-  Model<dim> m(Grid<dim>(origin, h, n));
-  Vec<dim> grid_hi;
-  for (int d = 0; d < dim; ++d) grid_hi[d] = origin[d] + n[d] * h[d];
+                         std::floor(kLargestIndex / dim), dim, g.nodes));
+  g.memory = memory_context(cf, dim, g.nodes);
+  require_memory(cf, "grid.cells", g.memory.estimate(0.0, 0.0),
+                 fmt::format("{:.3g} grid nodes{}{}", g.nodes,
+                             g.memory.grid_output ? " written to grid VTU files" : "", g.memory.machine_ranks));
+  return g;
+}
 
-  // --- basis
-  m.basis = *parse_basis(read_string(cf, "basis", mpm_section("basis").key("type")));
-
-  // --- materials
+/// [materials.NAME]: each law reads its own keys. Returns the names, in file order.
+template <int dim>
+std::vector<std::string> read_materials(const CaseFile& cf, Model<dim>& m) {
   const auto names = cf.subsections("materials");
   if (names.empty())
     throw InputError(fmt::format("{}: missing section [materials.NAME] (at least one material)", cf.name()));
-  for (const auto& name : names) {  // each law reads its own keys
+  for (const auto& name : names) {
     // A dot or brackets would read as a key path (materials.so.il.model, bodies[0]), a
     // quote as the end of a name: refuse them by name.
     if (name.find_first_of(".[]\"") != std::string::npos || name.find_first_of("\n\r\t") != std::string::npos)
@@ -184,200 +204,254 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     cf.check_section_keys(k, keys, fmt::format("[{}] with model = \"{}\"", k, model));
     m.materials.push_back(law->make(cf, k, *law));
   }
-  read_regularisation(cf, names, m);
-  // l^2 beside the cells' h^2 in the Helmholtz system: far beyond the grid's extent kappa_bar
-  // is only the mean of kappa, and l = 1e300 overflowed l^2 into a solve of non-finite values.
+  return names;
+}
+
+/// l^2 beside the cells' h^2 in the Helmholtz system: far beyond the grid's extent kappa_bar
+/// is only the mean of kappa, and l = 1e300 overflowed l^2 into a solve of non-finite values.
+template <int dim>
+void check_length_scale(const CaseFile& cf, const Model<dim>& m, const GridRead<dim>& g) {
   double extent = 0.0;
-  for (int d = 0; d < dim; ++d) extent = std::max(extent, n[d] * h[d]);
+  for (int d = 0; d < dim; ++d) extent = std::max(extent, g.n[d] * g.h[d]);
   cf.require(m.regularisation.length_scale <= 10.0 * extent, "regularisation.length_scale",
              fmt::format("a length scale l > 0 of at most 10 times the grid's extent ({:g})", 10.0 * extent));
+}
 
-  // --- bodies: material points at sub-cell centres inside each body
+/// A body's shape: its bounding box and whether a point lies inside (a box, or a 2D polygon).
+template <int dim>
+struct BodyShape {
+  Box<dim> box;
+  std::function<bool(const Vec<dim>&)> inside;
+  std::string key;  ///< the key its errors name: "bodies[k].polygon" or "bodies[k].max"
+};
+
+template <int dim>
+BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const GridRead<dim>& g) {
+  BodyShape<dim> s;
+  if (cf.has(k + ".polygon")) {
+    s.key = k + ".polygon";
+    cf.require(dim == 2, s.key, "no polygon (polygons are for 2D cases; use min and max)");
+    cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), s.key, "either a polygon or min/max, not both");
+    const auto poly = cf.vector_list(s.key, 2);
+    cf.require(poly.size() >= 3, s.key, "at least 3 vertices");
+    s.box.lo.setConstant(std::numeric_limits<double>::max());
+    s.box.hi.setConstant(std::numeric_limits<double>::lowest());
+    for (const auto& v : poly)
+      for (int d = 0; d < dim; ++d) {
+        s.box.lo[d] = std::min(s.box.lo[d], v[d]);
+        s.box.hi[d] = std::max(s.box.hi[d], v[d]);
+      }
+    s.inside = [poly](const Vec<dim>& x) { return inside_polygon(poly, x[0], x[dim > 1 ? 1 : 0]); };
+  } else {
+    s.key = k + ".max";
+    s.box = read_box<dim>(cf, k);
+    s.inside = [box = s.box](const Vec<dim>& x) { return box.contains(x, 0.0); };
+  }
+  for (int d = 0; d < dim; ++d)
+    cf.require(s.box.lo[d] >= g.origin[d] - 1e-12 * g.h[d] && s.box.hi[d] <= g.hi[d] + 1e-12 * g.h[d], s.key,
+               "a body inside the grid");
+  return s;
+}
+
+/// What the bodies brought: the points planned (for the memory estimate) and made.
+struct BodiesRead {
+  double planned_points = 0.0, planned_cells = 0.0;
+  long long total_points = 0;  ///< over every rank
+};
+
+/// A body's points to make once the ranks' cells are known (a distributed run).
+template <int dim>
+struct Fill {
+  typename Grid<dim>::Index first, last;
+  int ppc, material;
+  std::function<bool(const Vec<dim>&)> inside;
+};
+
+/// This rank's points (the cells of the cut), their ids in the order of every point.
+template <int dim>
+void make_rank_points(Model<dim>& m, const std::vector<Fill<dim>>& fills, const std::vector<long long>& per_key) {
+  m.rank_boxes = RankBoxes::of_counts(cells_of(m.grid), per_key, ranks::size());
+  const int me = ranks::rank();
+  long long mine = 0;
+  m.rank_boxes.for_each_cell(me, [&](int key) { mine += per_key[key]; });
+  m.points.reserve(static_cast<std::size_t>(mine));
+  m.point_ids.reserve(static_cast<std::size_t>(mine));
+  int id = 0;
+  for (const Fill<dim>& f : fills)
+    add_regular_points<dim>(m.grid, f.first, f.last, f.ppc, f.inside, f.material, m.materials[f.material]->density(),
+                            m.points, [&](const Vec<dim>& x) {
+                              const bool owned = m.rank_boxes.owner(cell_corner_key(m.grid, x)) == me;
+                              if (owned) m.point_ids.push_back(id);
+                              ++id;
+                              return owned;
+                            });
+}
+
+/// [[bodies]]: material points at sub-cell centres inside each body. A distributed run's
+/// rank makes only the points in its cells (rank_points_only): the bodies are visited
+/// twice, first to check and count their points per cell (nothing stored but the counts:
+/// the cut of mpm/RankPoints.hpp), then to make this rank's.
+template <int dim>
+BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names, const GridRead<dim>& g,
+                       bool rank_points_only, Model<dim>& m) {
   const std::size_t nb = cf.array_size("bodies");
   if (nb == 0)
     throw InputError(fmt::format("{}: missing [[bodies]] (at least one body of material points)", cf.name()));
-  double planned_points = 0.0, planned_cells = 0.0;
+  BodiesRead r;
   std::vector<std::function<bool(const Vec<dim>&)>> earlier_bodies;  // their insides, strict
-  // A distributed run's rank makes only the points in its cells (rank_points_only): the
-  // bodies are visited twice, first to check and count their points per cell (nothing
-  // stored but the counts: the cut of mpm/RankPoints.hpp), then to make this rank's.
-  struct Fill {
-    typename Grid<dim>::Index first, last;
-    int ppc, material;
-    std::function<bool(const Vec<dim>&)> inside;
-  };
-  std::vector<Fill> fills;
+  std::vector<Fill<dim>> fills;
   std::vector<long long> per_key(rank_points_only ? m.grid.num_nodes() : 0, 0);
-  long long total_points = 0;
   for (std::size_t b = 0; b < nb; ++b) {
     const std::string k = fmt::format("bodies[{}]", b);
     const std::string mat = cf.string(k + ".material");
-    int mat_id = -1;
-    for (std::size_t i = 0; i < names.size(); ++i)
-      if (names[i] == mat) mat_id = static_cast<int>(i);
-    cf.require(mat_id >= 0, k + ".material",
+    const auto named = std::find(names.begin(), names.end(), mat);
+    cf.require(named != names.end(), k + ".material",
                fmt::format("the name of a [materials.NAME] section (one of: {})", fmt::join(names, ", ")));
-    const long long ppc = read_integer(cf, k, mpm_section("bodies").key("points_per_cell"));
-    Box<dim> box;
-    std::function<bool(const Vec<dim>&)> inside;
-    if (cf.has(k + ".polygon")) {
-      cf.require(dim == 2, k + ".polygon", "no polygon (polygons are for 2D cases; use min and max)");
-      cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), k + ".polygon", "either a polygon or min/max, not both");
-      const auto poly = cf.vector_list(k + ".polygon", 2);
-      cf.require(poly.size() >= 3, k + ".polygon", "at least 3 vertices");
-      box.lo.setConstant(std::numeric_limits<double>::max());
-      box.hi.setConstant(std::numeric_limits<double>::lowest());
-      for (const auto& v : poly)
-        for (int d = 0; d < dim; ++d) {
-          box.lo[d] = std::min(box.lo[d], v[d]);
-          box.hi[d] = std::max(box.hi[d], v[d]);
-        }
-      inside = [poly](const Vec<dim>& x) { return inside_polygon(poly, x[0], x[dim > 1 ? 1 : 0]); };
-    } else {
-      box = read_box<dim>(cf, k);
-      inside = [box](const Vec<dim>& x) { return box.contains(x, 0.0); };
-    }
-    for (int d = 0; d < dim; ++d)
-      cf.require(box.lo[d] >= origin[d] - 1e-12 * h[d] && box.hi[d] <= grid_hi[d] + 1e-12 * h[d],
-                 k + (cf.has(k + ".polygon") ? ".polygon" : ".max"), "a body inside the grid");
+    const int mat_id = static_cast<int>(named - names.begin());
+    const int ppc = static_cast<int>(read_integer(cf, k, mpm_section("bodies").key("points_per_cell")));
+    const BodyShape<dim> shape = read_body_shape(cf, k, g);
     typename Grid<dim>::Index first, last;
     for (int d = 0; d < dim; ++d) {
-      first[d] = std::max(0, static_cast<int>(std::floor((box.lo[d] - origin[d]) / h[d])));
-      last[d] = std::min(n[d], static_cast<int>(std::ceil((box.hi[d] - origin[d]) / h[d])));
+      first[d] = std::max(0, static_cast<int>(std::floor((shape.box.lo[d] - g.origin[d]) / g.h[d])));
+      last[d] = std::min(g.n[d], static_cast<int>(std::ceil((shape.box.hi[d] - g.origin[d]) / g.h[d])));
     }
     // The memory this body brings (with the bodies before it), before its points exist.
     double body_cells = 1.0;
     for (int d = 0; d < dim; ++d) body_cells *= std::max(0, last[d] - first[d]);
-    planned_cells += body_cells;
-    planned_points += body_cells * std::pow(static_cast<double>(ppc), dim);
-    require_memory(cf, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
-                   mpm_memory_estimate(dim, planned_points, planned_cells, nodes, grid_output, share, on_this_machine),
-                   fmt::format("{:.3g} points, {:.3g} grid nodes{}", planned_points, nodes, machine_ranks));
-    cf.require(planned_points < 2147483647.0, k + ".points_per_cell",
-               fmt::format("at most 2^31 points in all; these bodies have {:.4g}", planned_points));
+    r.planned_cells += body_cells;
+    r.planned_points += body_cells * std::pow(static_cast<double>(ppc), dim);
+    require_memory(cf, shape.key, g.memory.estimate(r.planned_points, r.planned_cells),
+                   fmt::format("{:.3g} points, {:.3g} grid nodes{}", r.planned_points, g.nodes, g.memory.machine_ranks));
+    cf.require(r.planned_points <= kLargestIndex, k + ".points_per_cell",
+               fmt::format("at most 2^31 points in all; these bodies have {:.4g}", r.planned_points));
     // Overlapping bodies would put two points' mass and stiffness in one place: refused.
+    const std::string overlap_key = cf.has(k + ".polygon") ? shape.key : k + ".min";
     auto not_overlapping = [&](const Vec<dim>& x) {
       for (std::size_t e = 0; e < earlier_bodies.size(); ++e)
-        cf.require(!earlier_bodies[e](x), k + (cf.has(k + ".polygon") ? ".polygon" : ".min"),
+        cf.require(!earlier_bodies[e](x), overlap_key,
                    fmt::format("a body that does not overlap bodies[{}] (its point at ({:.6g}) lies inside it: "
                                "mass and stiffness would count twice there)",
                                e, fmt::join(x.data(), x.data() + dim, ", ")));
     };
     int added = 0;
     if (rank_points_only) {
-      for_each_regular_point<dim>(m.grid, first, last, static_cast<int>(ppc), inside, [&](const Vec<dim>& x) {
+      for_each_regular_point<dim>(m.grid, first, last, ppc, shape.inside, [&](const Vec<dim>& x) {
         not_overlapping(x);
         ++added;
         ++per_key[cell_corner_key(m.grid, x)];
       });
-      fills.push_back({first, last, static_cast<int>(ppc), mat_id, inside});
+      fills.push_back({first, last, ppc, mat_id, shape.inside});
     } else {
       const int before = m.points.size();
-      added = add_regular_points<dim>(m.grid, first, last, static_cast<int>(ppc), inside, mat_id,
-                                      m.materials[mat_id]->density(), m.points);
+      added = add_regular_points<dim>(m.grid, first, last, ppc, shape.inside, mat_id, m.materials[mat_id]->density(),
+                                      m.points);
       for (int p = before; p < m.points.size(); ++p) not_overlapping(m.points.position[p]);
     }
-    total_points += added;
+    r.total_points += added;
     if (cf.has(k + ".polygon"))
-      earlier_bodies.push_back(inside);
+      earlier_bodies.push_back(shape.inside);
     else
-      earlier_bodies.push_back([box, h](const Vec<dim>& x) { return box.contains(x, -1e-9 * h.minCoeff()); });
-    cf.require(added > 0, k + (cf.has(k + ".polygon") ? ".polygon" : ".max"),
-               "a body holding at least one material point (it is smaller than a sub-cell)");
+      earlier_bodies.push_back([box = shape.box, h = g.h](const Vec<dim>& x) {
+        return box.contains(x, -1e-9 * h.minCoeff());
+      });
+    cf.require(added > 0, shape.key, "a body holding at least one material point (it is smaller than a sub-cell)");
   }
-  if (rank_points_only) {  // this rank's points (the cells of the cut), their ids in the order of every point
-    m.rank_boxes = RankBoxes::of_counts(cells_of(m.grid), per_key, ranks::size());
-    const int me = ranks::rank();
-    long long mine = 0;
-    m.rank_boxes.for_each_cell(me, [&](int key) { mine += per_key[key]; });
-    m.points.reserve(static_cast<std::size_t>(mine));
-    m.point_ids.reserve(static_cast<std::size_t>(mine));
-    int id = 0;
-    for (const Fill& f : fills)
-      add_regular_points<dim>(m.grid, f.first, f.last, f.ppc, f.inside, f.material, m.materials[f.material]->density(),
-                              m.points, [&](const Vec<dim>& x) {
-                                const bool mine = m.rank_boxes.owner(cell_corner_key(m.grid, x)) == me;
-                                if (mine) m.point_ids.push_back(id);
-                                ++id;
-                                return mine;
-                              });
-  }
+  if (rank_points_only) make_rank_points(m, fills, per_key);
+  return r;
+}
 
-  // --- F-bar
+/// [mpm]: F-bar (finite-strain laws only) and the ghost penalty.
+template <int dim>
+void read_mpm_options(const CaseFile& cf, Model<dim>& m) {
   m.fbar = read_boolean(cf, "mpm", mpm_section("mpm").key("fbar"));
   for (const auto& mat : m.materials)
     cf.require(!m.fbar || mat->finite_strain(), "mpm.fbar",
                fmt::format("false with the small-strain model \"{}\" (F-bar needs finite-strain laws)", mat->model()));
-
   m.ghost_penalty = read_number(cf, "mpm", mpm_section("mpm").key("ghost_penalty"));
+}
 
-  // --- loads
-  if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
+/// The nodes a [[constraints]] block selects: a face of the grid, or a box.
+template <int dim>
+Box<dim> constraint_selection(const CaseFile& cf, const std::string& k, const GridRead<dim>& g) {
+  if (!cf.has(k + ".face")) return read_box<dim>(cf, k);
+  const std::string face = cf.string(k + ".face");
+  int axis = -1;
+  for (int d = 0; d < dim; ++d)
+    if (face.size() == 2 && face[0] == kAxes[d][0] && (face[1] == '-' || face[1] == '+')) axis = d;
+  cf.require(axis >= 0, k + ".face",
+             dim == 1 ? "\"x-\" or \"x+\""
+                      : (dim == 2 ? "one of \"x-\", \"x+\", \"y-\", \"y+\""
+                                  : "one of \"x-\", \"x+\", \"y-\", \"y+\", \"z-\", \"z+\""));
+  cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), k + ".face", "either a face or min/max, not both");
+  Box<dim> sel{g.origin, g.hi};
+  if (face[1] == '-')
+    sel.hi[axis] = g.origin[axis];
+  else
+    sel.lo[axis] = g.hi[axis];
+  return sel;
+}
 
-  // --- constraints on grid nodes
-  const double tol = 1e-9 * h.minCoeff();
+/// The components a [[constraints]] block holds ("x", "y", "z").
+template <int dim>
+std::vector<int> constrained_components(const CaseFile& cf, const std::string& k) {
+  std::vector<int> comps;
+  for (const auto& f : cf.string_list(k + ".fix")) {
+    int axis = -1;
+    for (int d = 0; d < dim; ++d)
+      if (f == kAxes[d]) axis = d;
+    cf.require(axis >= 0, k + ".fix",
+               dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
+    comps.push_back(axis);
+  }
+  cf.require(!comps.empty(), k + ".fix", "at least one component to hold");
+  return comps;
+}
+
+/// The node set a named block reports its reaction under (reactions.csv); blocks of one
+/// name form one set. nullptr for an unnamed block.
+template <int dim>
+NamedNodeSet* named_node_set(const CaseFile& cf, const std::string& k, Model<dim>& m) {
+  if (!cf.has(k + ".name")) return nullptr;
+  const std::string name = read_string(cf, k, mpm_section("constraints").key("name"));
+  cf.require(!name.empty() && name.find_first_of(",\n\"") == std::string::npos, k + ".name",
+             "a name without commas, quotes or newlines");
+  for (auto& s : m.node_sets)
+    if (s.name == name) return &s;
+  return &m.node_sets.emplace_back(NamedNodeSet{name, {}});
+}
+
+/// [[constraints]] on grid nodes.
+template <int dim>
+void read_constraints(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
+  const double tol = 1e-9 * g.h.minCoeff();
   for (std::size_t c = 0; c < cf.array_size("constraints"); ++c) {
     const std::string k = fmt::format("constraints[{}]", c);
-    Box<dim> sel;
-    if (cf.has(k + ".face")) {
-      const std::string face = cf.string(k + ".face");
-      int axis = -1;
-      for (int d = 0; d < dim; ++d)
-        if (face.size() == 2 && face[0] == kAxes[d][0] && (face[1] == '-' || face[1] == '+')) axis = d;
-      cf.require(axis >= 0, k + ".face",
-                 dim == 1 ? "\"x-\" or \"x+\""
-                          : (dim == 2 ? "one of \"x-\", \"x+\", \"y-\", \"y+\""
-                                      : "one of \"x-\", \"x+\", \"y-\", \"y+\", \"z-\", \"z+\""));
-      cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), k + ".face", "either a face or min/max, not both");
-      sel.lo = origin;
-      sel.hi = grid_hi;
-      if (face[1] == '-')
-        sel.hi[axis] = origin[axis];
-      else
-        sel.lo[axis] = grid_hi[axis];
-    } else {
-      sel = read_box<dim>(cf, k);
-    }
-    const auto fix = cf.string_list(k + ".fix");
-    std::vector<int> comps;
-    for (const auto& f : fix) {
-      int axis = -1;
-      for (int d = 0; d < dim; ++d)
-        if (f == kAxes[d]) axis = d;
-      cf.require(axis >= 0, k + ".fix",
-                 dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
-      comps.push_back(axis);
-    }
-    cf.require(!comps.empty(), k + ".fix", "at least one component to hold");
+    const Box<dim> sel = constraint_selection(cf, k, g);
+    const std::vector<int> comps = constrained_components<dim>(cf, k);
+    const bool roller = static_cast<int>(comps.size()) < dim;
     Vec<dim> disp = Vec<dim>::Zero();
     if (cf.has(k + ".displacement")) disp = vec<dim>(cf, k + ".displacement");
-    // A named block reports its reaction (reactions.csv); blocks of one name form one set.
-    NamedNodeSet* named = nullptr;
-    if (cf.has(k + ".name")) {
-      const std::string name = read_string(cf, k, mpm_section("constraints").key("name"));
-      cf.require(!name.empty() && name.find_first_of(",\n\"") == std::string::npos, k + ".name",
-                 "a name without commas, quotes or newlines");
-      for (auto& s : m.node_sets)
-        if (s.name == name) named = &s;
-      if (!named) named = &m.node_sets.emplace_back(NamedNodeSet{name, {}});
-    }
+    NamedNodeSet* named = named_node_set(cf, k, m);
     const bool boundary = read_boolean(cf, k, mpm_section("constraints").key("gradient_boundary"));
-    if (static_cast<int>(comps.size()) < dim && boundary)
+    if (roller && boundary)
       for (int d : comps)
         if (sel.hi[d] - sel.lo[d] <= tol) m.roller_planes.push_back({d, sel.lo[d]});
     int selected = 0;
     for (int node = 0; node < m.grid.num_nodes(); ++node) {
       if (!sel.contains(m.grid.node_position(node), tol)) continue;
       ++selected;
-      for (int comp : comps)
-        m.constraints.push_back({node, comp, disp[comp], static_cast<int>(comps.size()) < dim, boundary});
+      for (int comp : comps) m.constraints.push_back({node, comp, disp[comp], roller, boundary});
       if (named && std::find(named->nodes.begin(), named->nodes.end(), node) == named->nodes.end())
         named->nodes.push_back(node);
     }
     cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");
   }
+}
 
-  // --- rigid boxes (mpm/RigidContact.hpp)
+/// [[rigid_boxes]] (mpm/RigidContact.hpp): none may overlap a point's domain at the start.
+template <int dim>
+void read_rigid_boxes(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
+  const double tol = 1e-9 * g.h.minCoeff();
   const double young_max = stiffest_young(m.materials);
   const SectionSpec& rigid = mpm_section("rigid_boxes");
   for (std::size_t c = 0; c < cf.array_size("rigid_boxes"); ++c) {
@@ -387,8 +461,8 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     cf.require(b.name.find_first_of(",\n\"") == std::string::npos, k + ".name",
                "a name without commas, quotes or newlines");
     if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
-    check_rigid_box(cf, k, b, origin, grid_hi, m);
-    b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / h.minCoeff();
+    check_rigid_box(cf, k, b, g.origin, g.hi, m);
+    b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / g.h.minCoeff();
     int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
     for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
       bool inside = true;
@@ -403,8 +477,12 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
                fmt::format("a box that no material point's domain overlaps at the start (point {} does)", overlapped));
     m.rigid_boxes.push_back(b);
   }
+}
 
-  // --- point loads
+/// [[point_loads]]: a force on every point in a box (at least one, over every rank).
+template <int dim>
+void read_point_loads(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
+  const double tol = 1e-9 * g.h.minCoeff();
   for (std::size_t c = 0; c < cf.array_size("point_loads"); ++c) {
     const std::string k = fmt::format("point_loads[{}]", c);
     const Box<dim> sel = read_box<dim>(cf, k);
@@ -418,8 +496,10 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     ranks::sum(&selected, 1);  // (every rank's points)
     cf.require(selected > 0, k + ".min", "a box holding at least one material point");
   }
+}
 
-  // --- load steps, Newton, output
+/// [load_steps] and [nonlinear_solver].
+NewtonSettings read_newton(const CaseFile& cf) {
   const SectionSpec& nl = mpm_section("nonlinear_solver");
   NewtonSettings newton;
   newton.load_steps = static_cast<int>(read_integer(cf, "load_steps", mpm_section("load_steps").key("count")));
@@ -427,9 +507,12 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   newton.max_iterations = static_cast<int>(read_integer(cf, nl.name, nl.key("max_iterations")));
   newton.max_cuts = static_cast<int>(read_integer(cf, nl.name, nl.key("max_cuts")));
   newton.linear_solver = read_linear_solver_settings(cf);
-  GradientSettings gradient = gradient_settings;
-  gradient.linear_solver = newton.linear_solver;
+  return newton;
+}
 
+/// [output]; check = "column" only where the column's closed form holds.
+template <int dim>
+MpmOutputSettings read_output(const CaseFile& cf, const Model<dim>& m, long long total_points) {
   const SectionSpec& out = mpm_section("output");
   MpmOutputSettings output;
   output.vtk_every = static_cast<int>(read_integer(cf, out.name, out.key("vtk_every")));
@@ -446,14 +529,45 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     cf.require(
         m.materials.size() == 1 && m.materials[0]->model() == "hencky" && m.materials[0]->elasticity().poisson == 0.0,
         "output.check", "\"column\" only for one Hencky material with poisson = 0");
-    cf.require(nb == 1 && !cf.has("bodies[0].polygon"), "output.check", "\"column\" only for one box-shaped body");
+    cf.require(cf.array_size("bodies") == 1 && !cf.has("bodies[0].polygon"), "output.check",
+               "\"column\" only for one box-shaped body");
     bool vertical = m.gravity[dim - 1] < 0.0;
     for (int d = 0; d + 1 < dim; ++d) vertical = vertical && m.gravity[d] == 0.0;
     cf.require(vertical, "output.check", "\"column\" only with gravity along -" + std::string(kAxes[dim - 1]));
   }
+  return output;
+}
+
+}  // namespace
+
+template <int dim>
+MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
+  for (const auto& s : mpm_sections())
+    if (s.name == "linear_solver")
+      declare_linear_solver_section(cf);
+    else
+      cf.declare(s);
+  cf.reject_unknown();
+  const GradientSettings gradient_settings = read_gradient_settings(cf);
+  const GridRead<dim> g = read_grid<dim>(cf);
+  Model<dim> m(Grid<dim>(g.origin, g.h, g.n));
+  m.basis = *parse_basis(read_string(cf, "basis", mpm_section("basis").key("type")));
+  const std::vector<std::string> names = read_materials(cf, m);
+  read_regularisation(cf, names, m);
+  check_length_scale(cf, m, g);
+  const BodiesRead bodies = read_bodies(cf, names, g, rank_points_only, m);
+  read_mpm_options(cf, m);
+  if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
+  read_constraints(cf, g, m);
+  read_rigid_boxes(cf, g, m);
+  read_point_loads(cf, g, m);
+  const NewtonSettings newton = read_newton(cf);
+  GradientSettings gradient = gradient_settings;
+  gradient.linear_solver = newton.linear_solver;
+  const MpmOutputSettings output = read_output(cf, m, bodies.total_points);
   m.initialise_state();
   // (one process's share of the machine's estimate, which a run prints beside its peak)
-  const double memory = mpm_memory_estimate(dim, planned_points, planned_cells, nodes, grid_output, share, 1);
+  const double memory = g.memory.estimate(bodies.planned_points, bodies.planned_cells) / g.memory.on_this_machine;
   return MpmCase<dim>{std::move(m), newton, gradient, output, memory};
 }
 

@@ -166,182 +166,86 @@ std::string penalty_hint(const CaseFile& cf, const std::string& failure) {
   return "";
 }
 
+/// One MPM run, in the phases `run` reads as: the case read and its header printed, the
+/// start (fresh, or a checkpoint's state and outputs), the load steps with their outputs
+/// after each (observe), then the final files. A distributed run: rank 0 writes the
+/// outputs; the others only their VTU pieces (no CSV files, checkpoints or plots of their
+/// own: at 1000 ranks, 999 plots).
 template <int dim>
-void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
-  const bool quiet = options.quiet;
-  // A distributed run: rank 0 writes the outputs; the others only their VTU pieces (no
-  // CSV files, checkpoints or plots of their own: at 1000 ranks, 999 plots).
-  const bool writes = ranks::rank() == 0;
-  const fs::path shown = options.shown.empty() ? dir : options.shown;
-  const std::string case_text = mpm_canonical_text(cf);  // a default spelt out is no other case
-  // A distributed run's rank makes only its own points (a restart replaces them by the
-  // checkpoint's points in its cells).
-  MpmCase<dim> c = read_mpm_case<dim>(cf, ranks::distributed());
-  Model<dim>& m = c.model;
-  const MpmOutputSettings& output = c.output;
-  StagedOutputs probe(dir);  // fails now, before solving, if the directory is unusable
-  GradientStep<dim> gradient_step(m, c.gradient);
-  std::vector<PostStepStage<dim>*> stages;
-  if (gradient_step.enabled()) stages.push_back(&gradient_step);
-  double classical_seconds = 0.0;
-  std::optional<Restart> restart;
-  if (!options.restart.empty()) restart = read_checkpoint(options.restart, case_text, dim);
-  const CheckpointFolder checkpoints(options.checkpoints.empty() ? checkpoint_folder_of(dir) : options.checkpoints,
-                                     checkpoint_folder_of(shown).string(), output.checkpoint_every,
-                                     output.checkpoint_keep);
-
-  std::vector<std::pair<double, std::string>> pvd_points, pvd_grid;
-  std::string history = "step,load_factor,iteration,residual\n";
-  // The tracked columns hold no gradient fields: one table serves every step (its columns
-  // read the points when written).
-  const PointColumns<dim> tracked_table(m, nullptr);
-  const std::vector<std::string> tracked_columns = tracked_table.with_state(kTrackedColumns);
-  std::string tracked = "step,load_factor," + join(tracked_table.csv_header(tracked_columns)) + "\n";
-  auto write_vtk = [&](int step, double lambda, const StepInfo* info) {
-    const PointColumns<dim> table(m, gradient_step.fields());
-    const std::vector<std::string> names = vtu_point_columns(table);
-    const std::vector<VtkField> grid_fields = grid_vtk_fields(m, info);  // (collective)
-    // A distributed run: each rank its piece of each (its points, its cells of the grid),
-    // and rank 0 the .pvtu files naming them.
-    const bool in_pieces = ranks::distributed();
-    const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
-    const std::string gf = fmt::format("grid_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
-    const auto pieces = in_pieces ? write_vtu_pieces(options.pieces, step,
-                                                     {{"points", table.vtu(names)}, {"grid", grid_vtu(m, grid_fields)}})
-                                  : std::vector<std::vector<std::string>>{};
-    if (!writes) return;  // rank 0 writes the rest
-    StagedOutputs out(dir);
-    out.write_text(pf, in_pieces ? pvtu(table.vtk_layout(names), pieces[0]) : table.vtu(names));
-    out.write_text(gf, in_pieces ? pvtu(grid_fields, pieces[1]) : grid_vtu(m, grid_fields));
-    pvd_points.emplace_back(lambda, pf);
-    pvd_grid.emplace_back(lambda, gf);
-    out.write_text("points.pvd", pvd(pvd_points));
-    out.write_text("grid.pvd", pvd(pvd_grid));
-    out.commit();
-  };
-  // Named constraint blocks: reaction (sum over the nodes) and mean displacement (the
-  // nodes' increments summed over the steps); named rigid boxes: contact force and displacement.
-  std::string reactions = "step,load,name,rx,ry,rz,ux,uy,uz\n";
-  std::vector<Vec<dim>> block_u(m.node_sets.size(), Vec<dim>::Zero());
-  bool reports = !m.node_sets.empty();
-  for (const auto& b : m.rigid_boxes) reports = reports || !b.name.empty();
-  auto react = [&](const StepInfo& info) {
-    if (!reports) return;
-    auto row = [&](const std::string& name, const Vec<dim>& r, const Vec<dim>& u) {
-      double rv[3] = {0, 0, 0}, uv[3] = {0, 0, 0};
-      for (int d = 0; d < dim; ++d) {
-        rv[d] = r[d];
-        uv[d] = u[d];
-      }
-      fmt::format_to(std::back_inserter(reactions), "{},{},{},{},{},{},{},{},{}\n", info.step, info.load_factor, name,
-                     rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
-    };
-    if (!m.node_sets.empty()) {
-      // Per set: the reactions and increments summed over its active nodes, and their
-      // count. A distributed run's ranks sum the nodes they own (the fields are right
-      // there), then the sums are added over the ranks: nothing is gathered whole.
-      const Vector &R = info.grid_reaction(), &du = info.grid_displacement();
-      const bool split = !m.rank_boxes.empty();
-      // A distributed run's fields are at the nodes listed (the active ones it knows).
-      const std::vector<int> listed = split ? info.grid_nodes() : std::vector<int>{};
-      const std::vector<bool> solved = split ? std::vector<bool>{} : info.grid_active();
-      constexpr int per_set = 2 * dim + 1;  // r, sum of du, active nodes
-      std::vector<double> sums(m.node_sets.size() * per_set, 0.0);
-      for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
-        double* s = &sums[b * per_set];
-        for (int n : m.node_sets[b].nodes) {
-          int at = n;  // where n's values are
-          if (split) {
-            if (m.rank_boxes.owner(n) != ranks::rank()) continue;
-            at = listed_position(listed, n);
-            if (at < 0) continue;
-          } else if (!solved[n]) {
-            continue;
-          }
-          s[2 * dim] += 1.0;  // the mean displacement is over the nodes the step solved for
-          for (int d = 0; d < dim; ++d) {
-            s[d] += R[at * dim + d];
-            s[dim + d] += du[at * dim + d];
-          }
-        }
-      }
-      if (split) ranks::sum(sums.data(), sums.size());
-      for (std::size_t b = 0; b < m.node_sets.size(); ++b) {
-        const double* s = &sums[b * per_set];
-        Vec<dim> r, mean;
-        for (int d = 0; d < dim; ++d) {
-          r[d] = s[d];
-          mean[d] = s[dim + d];
-        }
-        if (s[2 * dim] > 0.0) block_u[b] += mean / s[2 * dim];
-        row(m.node_sets[b].name, r, block_u[b]);
-      }
-    }
-    // Rigid boxes: the force each exerts on the body, and its displacement.
-    const Vector F = m.rigid_boxes.empty() ? Vector() : info.rigid_forces();
-    for (std::size_t b = 0; b < m.rigid_boxes.size(); ++b)
-      if (!m.rigid_boxes[b].name.empty())
-        row(m.rigid_boxes[b].name, F.template segment<dim>(b * dim), info.load_factor * m.rigid_boxes[b].total);
-  };
-  // The energy balance: the work of the points' stresses (= the external work, reactions
-  // included, at equilibrium), the elastic energy they store, and what they dissipated.
-  std::string energy = "step,load_factor,work,elastic_energy,dissipation\n";
-  auto balance = [&](int step, double lambda) {
-    double sums[2] = {0.0, 0.0};  // work, stored
-    for (int p = 0; p < m.points.size(); ++p) {
-      sums[0] += m.points.work[p];
-      sums[1] += m.elastic_energy(p);
-    }
-    ranks::sum(sums, 2);  // a distributed run: each rank's points
-    fmt::format_to(std::back_inserter(energy), "{},{},{},{},{}\n", step, lambda, sums[0], sums[1], sums[0] - sums[1]);
-  };
-  auto track = [&](int step, double lambda) {
-    if (!ranks::distributed()) {
-      tracked_table.append_rows(tracked, {double(step), lambda}, output.track, tracked_columns);
-      return;
-    }
-    // Each rank the rows of the tracked points it owns, "k row" (k: the place in the
-    // list); rank 0 puts them in the list's order.
-    std::string mine;
-    for (std::size_t k = 0; k < output.track.size(); ++k) {
-      const auto at = std::lower_bound(m.point_ids.begin(), m.point_ids.end(), output.track[k]);
-      if (at == m.point_ids.end() || *at != output.track[k]) continue;
-      mine += fmt::format("{} ", k);
-      tracked_table.append_rows(mine, {double(step), lambda}, {at - m.point_ids.begin()}, tracked_columns);
-    }
-    const std::vector<std::string> from_ranks = ranks::gather_on_root(mine);
-    if (!writes) return;
-    std::vector<std::string> rows(output.track.size());
-    for (const std::string& text : from_ranks) {
-      std::istringstream in(text);
-      std::size_t k = 0;
-      std::string row;
-      while (in >> k && std::getline(in >> std::ws, row)) rows.at(k) = row + "\n";
-    }
-    for (const std::string& row : rows) tracked += row;
-  };
-  double points_in_all = m.points.size();
-  std::string partition;  // a distributed run's boxes of cells, and the points they hold
-  if (!m.rank_boxes.empty()) {
-    ranks::sum(&points_in_all, 1);  // each rank made its own
-    const std::vector<int> held = ranks::all_gather({m.points.size()});
-    std::string across;
-    for (int d = 0; d < dim; ++d) across += (d ? " x " : "") + std::to_string(m.rank_boxes.cut(d).size() - 1);
-    partition = fmt::format("; the grid cut into {} boxes of cells, {} to {} points per rank", across,
-                            *std::min_element(held.begin(), held.end()), *std::max_element(held.begin(), held.end()));
-    if (!cf.has("linear_solver.type"))  // (the default on several ranks: CommonKeys.cpp)
-      partition += fmt::format("; linear solver \"petsc\" (the default on {} ranks: {})", ranks::size(),
-                               c.newton.linear_solver.options.empty()
-                                   ? "CG with GAMG for a symmetric tangent, MUMPS's LU for a general one"
-                                   : "its options from linear_solver.options");
+class MpmRun {
+ public:
+  MpmRun(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options)
+      : cf_(cf),
+        dir_(dir),
+        shown_(options.shown.empty() ? dir : options.shown),
+        options_(options),
+        quiet_(options.quiet),
+        writes_(ranks::rank() == 0),
+        case_text_(mpm_canonical_text(cf)),  // a default spelt out is no other case
+        // A distributed run's rank makes only its own points (a restart replaces them by
+        // the checkpoint's points in its cells).
+        c_(read_mpm_case<dim>(cf, ranks::distributed())),
+        m_(c_.model),
+        output_(c_.output),
+        probe_(dir),  // fails now, before solving, if the directory is unusable
+        gradient_step_(m_, c_.gradient),
+        restart_(options.restart.empty() ? std::nullopt
+                                         : std::optional<Restart>(read_checkpoint(options.restart, case_text_, dim))),
+        checkpoints_(options.checkpoints.empty() ? checkpoint_folder_of(dir) : options.checkpoints,
+                     checkpoint_folder_of(shown_).string(), output_.checkpoint_every, output_.checkpoint_keep),
+        tracked_table_(m_, nullptr),  // no gradient fields: one table serves every step
+        tracked_columns_(tracked_table_.with_state(kTrackedColumns)),
+        block_u_(m_.node_sets.size(), Vec<dim>::Zero()) {
+    if (gradient_step_.enabled()) stages_.push_back(&gradient_step_);
+    tracked_ = "step,load_factor," + join(tracked_table_.csv_header(tracked_columns_)) + "\n";
+    reports_ = !m_.node_sets.empty();
+    for (const auto& b : m_.rigid_boxes) reports_ = reports_ || !b.name.empty();
   }
 
-  const std::string hugetlb = malloc_hugetlb();
-  if (!quiet)
+  void run() {
+    print_header();
+    const DriverState start = restart_ ? restore() : DriverState{};
+    // A distributed run: from here on each rank holds the points in its cells (and the
+    // gradient step their fields), the outputs gather what they need.
+    own_rank_points(m_, stages_);
+    if (!restart_) record(0, 0.0, nullptr);
+    const auto t0 = Clock::now();
+    try {
+      const RunSummary summary = run_quasi_static<dim>(
+          m_, c_.newton, stages_, [&](const Model<dim>&, const StepInfo& info) { observe(info); }, start);
+      finish(summary, seconds_since(t0));
+    } catch (const SolverError& e) {
+      if (!quiet_) fmt::print("  stopped; the files of the converged steps go to {}\n", shown_.string());
+      const std::string hint = penalty_hint(cf_, e.what());
+      if (hint.empty()) throw;
+      throw SolverError(std::string(e.what()) + hint);
+    }
+  }
+
+ private:
+  /// The run's first line: what runs, on what, with which process settings.
+  void print_header() {
+    double points_in_all = m_.points.size();
+    std::string partition;  // a distributed run's boxes of cells, and the points they hold
+    if (!m_.rank_boxes.empty()) {
+      ranks::sum(&points_in_all, 1);  // each rank made its own
+      const std::vector<int> held = ranks::all_gather({m_.points.size()});
+      std::string across;
+      for (int d = 0; d < dim; ++d) across += (d ? " x " : "") + std::to_string(m_.rank_boxes.cut(d).size() - 1);
+      partition = fmt::format("; the grid cut into {} boxes of cells, {} to {} points per rank", across,
+                              *std::min_element(held.begin(), held.end()), *std::max_element(held.begin(), held.end()));
+      if (!cf_.has("linear_solver.type"))  // (the default on several ranks: CommonKeys.cpp)
+        partition += fmt::format("; linear solver \"petsc\" (the default on {} ranks: {})", ranks::size(),
+                                 c_.newton.linear_solver.options.empty()
+                                     ? "CG with GAMG for a symmetric tangent, MUMPS's LU for a general one"
+                                     : "its options from linear_solver.options");
+    }
+    if (quiet_) return;
+    const std::string hugetlb = malloc_hugetlb();
     fmt::print(
         "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}), "
         "{}, {}{}\n",
-        dim, static_cast<long long>(points_in_all), m.grid.num_nodes(), to_string(m.basis), c.newton.load_steps,
+        dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis), c_.newton.load_steps,
         ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
         std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
                                        : std::string("waiting by default"),
@@ -349,127 +253,281 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
                                           : fmt::format("huge pages (glibc.malloc.hugetlb={})", hugetlb),
         malloc_keeps_freed_memory() ? "freed memory kept (glibc.malloc.mmap_max=0)" : "freed memory returned",
         partition);
-  // Everything the outputs accumulate from step to step, for a checkpoint.
-  auto save_outputs = [&](Archive& a) {
-    a.put_text("outputs/newton_history", history);
-    a.put_text("outputs/tracked_points", tracked);
-    a.put_text("outputs/reactions", reactions);
-    a.put_text("outputs/energy", energy);
-    a.put_objects("outputs/block_displacement", block_u);
-    put_series(a, "outputs/points_pvd", pvd_points);
-    put_series(a, "outputs/grid_pvd", pvd_grid);
-  };
-  DriverState start;
-  if (restart) {
-    const Archive& a = restart->archive;
-    start = restore_run_state<dim>(*restart, m, stages);
-    history = a.text("outputs/newton_history");
-    tracked = a.text("outputs/tracked_points");
-    reactions = a.text("outputs/reactions");
-    energy = a.text("outputs/energy");
-    a.get_objects("outputs/block_displacement", static_cast<long long>(block_u.size()), block_u);
-    pvd_points = get_series(a, "outputs/points_pvd");
-    pvd_grid = get_series(a, "outputs/grid_pvd");
-    if (writes) link_files(restart->outputs, dir);
-    if (!quiet) {
-      fmt::print("  restarting from {}: step {}, load factor {:.6g}\n", options.restart.string(), start.summary.steps,
-                 start.load_factor);
-      // OpenBLAS splits a factorisation's products by its threads: other threads, other
-      // last bits (docs/reliability.md, tests/test_threads.cpp R2b).
-      if (restart->threads > 0 && restart->threads != omp_get_max_threads())
-        fmt::print(
-            "  note: the checkpoint was written with {} thread(s), this run has {}: the answer follows the "
-            "uninterrupted run's to round-off, not bit for bit (the BLAS sums in another order)\n",
-            restart->threads, omp_get_max_threads());
-    }
-  }
-  // A distributed run: from here on each rank holds the points in its cells (and the
-  // gradient step their fields), the outputs gather what they need.
-  own_rank_points(m, stages);
-  if (!restart) {
-    if (output.vtk_every > 0) write_vtk(0, 0.0, nullptr);
-    track(0, 0.0);
-    balance(0, 0.0);
   }
 
-  const auto t0 = Clock::now();
-  try {
-    const RunSummary summary = run_quasi_static<dim>(
-        m, c.newton, stages,
-        [&](const Model<dim>&, const StepInfo& info) {
-          for (std::size_t k = 0; k < info.residuals.size(); ++k)
-            fmt::format_to(std::back_inserter(history), "{},{},{},{}\n", info.step, info.load_factor, k,
-                           info.residuals[k]);
-          track(info.step, info.load_factor);
-          react(info);
-          balance(info.step, info.load_factor);
-          classical_seconds += info.seconds;
-          if (output.vtk_every > 0 && (info.step % output.vtk_every == 0 || info.last))
-            write_vtk(info.step, info.load_factor, &info);
-          if (writes) {
-            StagedOutputs out(dir);
-            out.write_text("newton_history.csv", history);
-            if (!output.track.empty()) out.write_text("tracked_points.csv", tracked);
-            if (reports) out.write_text("reactions.csv", reactions);
-            out.write_text("energy.csv", energy);
-            out.commit();
-            if (!quiet) print_step<dim>(info);
-          }
-          if (checkpoints.due(info)) {
-            // A distributed run's ranks write their points each (no rank holds every
-            // point), rank 0 the rest; every rank goes on once the checkpoint is in place.
-            Archive a, points;
-            put_checkpoint_header(a, case_text, dim, info.step, omp_get_max_threads());
-            save_run_state<dim>(a, points, m, info.after, stages);
-            save_outputs(a);
-            const auto t_write = Clock::now();
-            const std::string where = checkpoints.write(info.step, a, points, dir);
-            if (!quiet) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
-          }
-        },
-        start);
-    {
-      // The final files in id order. A distributed run's ranks take even runs of ids
-      // (arrange_by_id) and each writes its rows at their place: no rank holds every point.
-      arrange_by_id(m, stages);
-      const PointColumns<dim> table(m, gradient_step.fields());
-      std::vector<std::string> final_columns = table.with_state(kFinalColumns);
-      final_columns.push_back("dissipation");  // last: the columns before it keep their places
-      write_in_id_order(dir, options.pieces, "points_final.csv", table.csv(final_columns));
-      if (gradient_step.fields())
-        write_in_id_order(dir, options.pieces, "points_gradient.csv", table.csv(kGradientColumns));
+  /// The checkpoint's points, driver state and outputs so far; returns where the driver starts.
+  DriverState restore() {
+    const Archive& a = restart_->archive;
+    const DriverState start = restore_run_state<dim>(*restart_, m_, stages_);
+    history_ = a.text("outputs/newton_history");
+    tracked_ = a.text("outputs/tracked_points");
+    reactions_ = a.text("outputs/reactions");
+    energy_ = a.text("outputs/energy");
+    a.get_objects("outputs/block_displacement", static_cast<long long>(block_u_.size()), block_u_);
+    pvd_points_ = get_series(a, "outputs/points_pvd");
+    pvd_grid_ = get_series(a, "outputs/grid_pvd");
+    if (writes_) link_files(restart_->outputs, dir_);
+    if (quiet_) return start;
+    fmt::print("  restarting from {}: step {}, load factor {:.6g}\n", options_.restart.string(), start.summary.steps,
+               start.load_factor);
+    // OpenBLAS splits a factorisation's products by its threads: other threads, other
+    // last bits (docs/reliability.md, tests/test_threads.cpp R2b).
+    if (restart_->threads > 0 && restart_->threads != omp_get_max_threads())
+      fmt::print(
+          "  note: the checkpoint was written with {} thread(s), this run has {}: the answer follows the "
+          "uninterrupted run's to round-off, not bit for bit (the BLAS sums in another order)\n",
+          restart_->threads, omp_get_max_threads());
+    return start;
+  }
+
+  /// Everything the outputs accumulate from step to step, for a checkpoint.
+  void save_outputs(Archive& a) const {
+    a.put_text("outputs/newton_history", history_);
+    a.put_text("outputs/tracked_points", tracked_);
+    a.put_text("outputs/reactions", reactions_);
+    a.put_text("outputs/energy", energy_);
+    a.put_objects("outputs/block_displacement", block_u_);
+    put_series(a, "outputs/points_pvd", pvd_points_);
+    put_series(a, "outputs/grid_pvd", pvd_grid_);
+  }
+
+  /// The rows of one step (0: the start) in every output that has one.
+  void record(int step, double lambda, const StepInfo* info) {
+    if (info) react(*info);
+    track(step, lambda);
+    balance(step, lambda);
+    if (output_.vtk_every > 0 && (step % output_.vtk_every == 0 || (info && info->last)))
+      write_vtk(step, lambda, info);
+  }
+
+  /// After each converged load step: its outputs, published whole, and its checkpoint.
+  void observe(const StepInfo& info) {
+    for (std::size_t k = 0; k < info.residuals.size(); ++k)
+      fmt::format_to(std::back_inserter(history_), "{},{},{},{}\n", info.step, info.load_factor, k, info.residuals[k]);
+    classical_seconds_ += info.seconds;
+    record(info.step, info.load_factor, &info);
+    if (writes_) {
+      StagedOutputs out(dir_);
+      out.write_text("newton_history.csv", history_);
+      if (!output_.track.empty()) out.write_text("tracked_points.csv", tracked_);
+      if (reports_) out.write_text("reactions.csv", reactions_);
+      out.write_text("energy.csv", energy_);
+      out.commit();
+      if (!quiet_) print_step<dim>(info);
     }
-    if (output.check == "column") collect_on_root(m, stages);  // the check reads every point (on rank 0)
-    if (!writes) return;
-    if (gradient_step.enabled() && !quiet)
+    if (checkpoints_.due(info)) checkpoint(info);
+  }
+
+  /// A distributed run's ranks write their points each (no rank holds every point), rank
+  /// 0 the rest; every rank goes on once the checkpoint is in place.
+  void checkpoint(const StepInfo& info) {
+    Archive a, points;
+    put_checkpoint_header(a, case_text_, dim, info.step, omp_get_max_threads());
+    save_run_state<dim>(a, points, m_, info.after, stages_);
+    save_outputs(a);
+    const auto t_write = Clock::now();
+    const std::string where = checkpoints_.write(info.step, a, points, dir_);
+    if (!quiet_) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
+  }
+
+  void write_vtk(int step, double lambda, const StepInfo* info) {
+    const PointColumns<dim> table(m_, gradient_step_.fields());
+    const std::vector<std::string> names = vtu_point_columns(table);
+    const std::vector<VtkField> grid_fields = grid_vtk_fields(m_, info);  // (collective)
+    // A distributed run: each rank its piece of each (its points, its cells of the grid),
+    // and rank 0 the .pvtu files naming them.
+    const bool in_pieces = ranks::distributed();
+    const std::string pf = fmt::format("points_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
+    const std::string gf = fmt::format("grid_{:04d}.{}", step, in_pieces ? "pvtu" : "vtu");
+    const auto pieces = in_pieces ? write_vtu_pieces(options_.pieces, step,
+                                                     {{"points", table.vtu(names)}, {"grid", grid_vtu(m_, grid_fields)}})
+                                  : std::vector<std::vector<std::string>>{};
+    if (!writes_) return;  // rank 0 writes the rest
+    StagedOutputs out(dir_);
+    out.write_text(pf, in_pieces ? pvtu(table.vtk_layout(names), pieces[0]) : table.vtu(names));
+    out.write_text(gf, in_pieces ? pvtu(grid_fields, pieces[1]) : grid_vtu(m_, grid_fields));
+    pvd_points_.emplace_back(lambda, pf);
+    pvd_grid_.emplace_back(lambda, gf);
+    out.write_text("points.pvd", pvd(pvd_points_));
+    out.write_text("grid.pvd", pvd(pvd_grid_));
+    out.commit();
+  }
+
+  void reaction_row(const StepInfo& info, const std::string& name, const Vec<dim>& r, const Vec<dim>& u) {
+    double rv[3] = {0, 0, 0}, uv[3] = {0, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+      rv[d] = r[d];
+      uv[d] = u[d];
+    }
+    fmt::format_to(std::back_inserter(reactions_), "{},{},{},{},{},{},{},{},{}\n", info.step, info.load_factor, name,
+                   rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
+  }
+
+  /// Named constraint blocks: reaction (the sum over the nodes) and mean displacement (the
+  /// nodes' increments summed over the steps); named rigid boxes: the force each exerts on
+  /// the body, and its displacement.
+  void react(const StepInfo& info) {
+    if (!reports_) return;
+    if (!m_.node_sets.empty()) react_node_sets(info);
+    const Vector F = m_.rigid_boxes.empty() ? Vector() : info.rigid_forces();
+    for (std::size_t b = 0; b < m_.rigid_boxes.size(); ++b)
+      if (!m_.rigid_boxes[b].name.empty())
+        reaction_row(info, m_.rigid_boxes[b].name, F.template segment<dim>(b * dim),
+                     info.load_factor * m_.rigid_boxes[b].total);
+  }
+
+  /// Per set: the reactions and increments summed over its active nodes, and their count.
+  /// A distributed run's ranks sum the nodes they own (the fields are right there), then
+  /// the sums are added over the ranks: nothing is gathered whole.
+  void react_node_sets(const StepInfo& info) {
+    const Vector &R = info.grid_reaction(), &du = info.grid_displacement();
+    const bool split = !m_.rank_boxes.empty();
+    // A distributed run's fields are at the nodes listed (the active ones it knows).
+    const std::vector<int> listed = split ? info.grid_nodes() : std::vector<int>{};
+    const std::vector<bool> solved = split ? std::vector<bool>{} : info.grid_active();
+    constexpr int per_set = 2 * dim + 1;  // r, sum of du, active nodes
+    std::vector<double> sums(m_.node_sets.size() * per_set, 0.0);
+    for (std::size_t b = 0; b < m_.node_sets.size(); ++b) {
+      double* s = &sums[b * per_set];
+      for (int n : m_.node_sets[b].nodes) {
+        int at = n;  // where n's values are
+        if (split) {
+          if (m_.rank_boxes.owner(n) != ranks::rank()) continue;
+          at = listed_position(listed, n);
+          if (at < 0) continue;
+        } else if (!solved[n]) {
+          continue;
+        }
+        s[2 * dim] += 1.0;  // the mean displacement is over the nodes the step solved for
+        for (int d = 0; d < dim; ++d) {
+          s[d] += R[at * dim + d];
+          s[dim + d] += du[at * dim + d];
+        }
+      }
+    }
+    if (split) ranks::sum(sums.data(), sums.size());
+    for (std::size_t b = 0; b < m_.node_sets.size(); ++b) {
+      const double* s = &sums[b * per_set];
+      Vec<dim> r, mean;
+      for (int d = 0; d < dim; ++d) {
+        r[d] = s[d];
+        mean[d] = s[dim + d];
+      }
+      if (s[2 * dim] > 0.0) block_u_[b] += mean / s[2 * dim];
+      reaction_row(info, m_.node_sets[b].name, r, block_u_[b]);
+    }
+  }
+
+  /// The energy balance: the work of the points' stresses (= the external work, reactions
+  /// included, at equilibrium), the elastic energy they store, and what they dissipated.
+  void balance(int step, double lambda) {
+    double sums[2] = {0.0, 0.0};  // work, stored
+    for (int p = 0; p < m_.points.size(); ++p) {
+      sums[0] += m_.points.work[p];
+      sums[1] += m_.elastic_energy(p);
+    }
+    ranks::sum(sums, 2);  // a distributed run: each rank's points
+    fmt::format_to(std::back_inserter(energy_), "{},{},{},{},{}\n", step, lambda, sums[0], sums[1], sums[0] - sums[1]);
+  }
+
+  void track(int step, double lambda) {
+    if (!ranks::distributed()) {
+      tracked_table_.append_rows(tracked_, {double(step), lambda}, output_.track, tracked_columns_);
+      return;
+    }
+    // Each rank the rows of the tracked points it owns, "k row" (k: the place in the
+    // list); rank 0 puts them in the list's order.
+    std::string mine;
+    for (std::size_t k = 0; k < output_.track.size(); ++k) {
+      const auto at = std::lower_bound(m_.point_ids.begin(), m_.point_ids.end(), output_.track[k]);
+      if (at == m_.point_ids.end() || *at != output_.track[k]) continue;
+      mine += fmt::format("{} ", k);
+      tracked_table_.append_rows(mine, {double(step), lambda}, {at - m_.point_ids.begin()}, tracked_columns_);
+    }
+    const std::vector<std::string> from_ranks = ranks::gather_on_root(mine);
+    if (!writes_) return;
+    std::vector<std::string> rows(output_.track.size());
+    for (const std::string& text : from_ranks) {
+      std::istringstream in(text);
+      std::size_t k = 0;
+      std::string row;
+      while (in >> k && std::getline(in >> std::ws, row)) rows.at(k) = row + "\n";
+    }
+    for (const std::string& row : rows) tracked_ += row;
+  }
+
+  /// The final files in id order. A distributed run's ranks take even runs of ids
+  /// (arrange_by_id) and each writes its rows at their place: no rank holds every point.
+  void write_final_points() {
+    arrange_by_id(m_, stages_);
+    const PointColumns<dim> table(m_, gradient_step_.fields());
+    std::vector<std::string> final_columns = table.with_state(kFinalColumns);
+    final_columns.push_back("dissipation");  // last: the columns before it keep their places
+    write_in_id_order(dir_, options_.pieces, "points_final.csv", table.csv(final_columns));
+    if (gradient_step_.fields())
+      write_in_id_order(dir_, options_.pieces, "points_gradient.csv", table.csv(kGradientColumns));
+  }
+
+  /// After the last step: the final files, the summary lines, the plot and the column check.
+  void finish(const RunSummary& summary, double seconds) {
+    write_final_points();
+    if (output_.check == "column") collect_on_root(m_, stages_);  // the check reads every point (on rank 0)
+    if (!writes_) return;
+    if (gradient_step_.enabled() && !quiet_)
       fmt::print(
           "  gradient step ({}, l = {:g}, apply = {}, fields = {}): {:.3f} s = {:.1f} % of the classical solve\n",
-          to_string(c.gradient.variant), c.gradient.length_scale,
-          c.gradient.apply == GradientApply::End ? "end" : "each_step",
-          c.gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step.seconds(),
-          100.0 * gradient_step.seconds() / std::max(classical_seconds, 1e-12));
-    if (!quiet)
-      fmt::print("  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s; {}peak memory {:.0f} MiB (estimated {:.0f} MiB)\n",
-                 summary.steps, summary.total_iterations, summary.cuts, seconds_since(t0),
-                 ranks::distributed() ? "rank 0's " : "", peak_resident_memory() / 1048576.0, c.memory_estimate / 1048576.0);
-    if (reports && output.plot) {
-      StagedOutputs out(dir);
-      const auto csv = out.write_text("reactions.csv", reactions);
+          to_string(c_.gradient.variant), c_.gradient.length_scale,
+          c_.gradient.apply == GradientApply::End ? "end" : "each_step",
+          c_.gradient.fields == GradientFields::Grid ? "grid" : "points", gradient_step_.seconds(),
+          100.0 * gradient_step_.seconds() / std::max(classical_seconds_, 1e-12));
+    if (!quiet_)
+      fmt::print(
+          "  done: {} steps, {} Newton iterations, {} cut(s), {:.2f} s; {}peak memory {:.0f} MiB (estimated {:.0f} "
+          "MiB)\n",
+          summary.steps, summary.total_iterations, summary.cuts, seconds, ranks::distributed() ? "rank 0's " : "",
+          peak_resident_memory() / 1048576.0, c_.memory_estimate / 1048576.0);
+    if (reports_ && output_.plot) {
+      StagedOutputs out(dir_);
+      const auto csv = out.write_text("reactions.csv", reactions_);
       const auto png = out.stage("load_displacement.png");
       run_python_script(embedded::plot_load_displacement_py,
                         {csv.string(), png.string(), fmt::format("{}D MPM, {} load steps", dim, summary.steps)});
       out.commit();
     }
-    if (output.check == "column") {
-      const std::string line = column_check(m, dir, output.plot);
-      if (!quiet) fmt::print("  {}\n", line);
+    if (output_.check == "column") {
+      const std::string line = column_check(m_, dir_, output_.plot);
+      if (!quiet_) fmt::print("  {}\n", line);
     }
-  } catch (const SolverError& e) {
-    if (!quiet) fmt::print("  stopped; the files of the converged steps go to {}\n", shown.string());
-    const std::string hint = penalty_hint(cf, e.what());
-    if (hint.empty()) throw;
-    throw SolverError(std::string(e.what()) + hint);
   }
+
+  CaseFile& cf_;
+  const fs::path dir_, shown_;
+  const MpmRunOptions& options_;
+  const bool quiet_, writes_;
+  const std::string case_text_;
+  MpmCase<dim> c_;
+  Model<dim>& m_;
+  const MpmOutputSettings& output_;
+  StagedOutputs probe_;
+  GradientStep<dim> gradient_step_;
+  std::vector<PostStepStage<dim>*> stages_;
+  std::optional<Restart> restart_;
+  const CheckpointFolder checkpoints_;
+  const PointColumns<dim> tracked_table_;
+  const std::vector<std::string> tracked_columns_;
+  double classical_seconds_ = 0.0;
+  Series pvd_points_, pvd_grid_;
+  std::string history_ = "step,load_factor,iteration,residual\n";
+  std::string tracked_;
+  std::string reactions_ = "step,load,name,rx,ry,rz,ux,uy,uz\n";
+  std::string energy_ = "step,load_factor,work,elastic_energy,dissipation\n";
+  std::vector<Vec<dim>> block_u_;
+  bool reports_ = false;
+};
+
+template <int dim>
+void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
+  MpmRun<dim>(cf, dir, options).run();
 }
 
 }  // namespace

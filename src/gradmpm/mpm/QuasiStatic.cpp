@@ -20,6 +20,9 @@ namespace gradmpm {
 
 namespace {
 
+/// A load factor this close to 1 is 1: the sum of the increments carries round-off.
+constexpr double kLoadFactorEnd = 1e-12;
+
 using detail::LoadStep;
 using detail::StepFailure;
 
@@ -152,180 +155,226 @@ double forcing_term(const std::vector<double>& residuals, double newton_toleranc
   return std::clamp(eta, 1e-14, eta_max);
 }
 
+/// Where Newton stands within a load step.
+struct NewtonState {
+  Vector du;               ///< the step's increment so far
+  Vector f_int;            ///< the internal force at du
+  Vector correction_free;  ///< the free part of the last Newton correction (backtracking halves it)
+  std::vector<double> residuals, absolute_residuals;
+  double eta = 1e-2;  ///< the forcing term of an iterative solver (forcing_term)
+};
+
+/// The out-of-balance force r = f_ext - f_int at du (zero in constrained rows), relative
+/// to the larger of the two forces, and absolute.
+struct Residual {
+  Vector r;
+  double relative = 0.0, absolute = 0.0;
+};
+
+/// The residual at s.du, with backtracking to admissibility: a Newton correction that
+/// inverts a point (det dF <= 0), or at which a material update fails (a non-finite
+/// internal force), is halved on the free dofs only (the prescribed increments stay as
+/// they are), up to kHalvings times before the step fails. Far from the solution (the
+/// first iterates of a step that starts a mechanism) the full correction can overshoot by
+/// far more than the increment itself; the step need not be cut for that.
+template <int dim>
+Residual residual_at(LoadStep<dim>& step, NewtonState& s, bool first, StepInfo& info) {
+  constexpr int kHalvings = 8;
+  for (int halving = 0;; ++halving) {
+    std::string failure;
+    try {
+      step.internal_force(s.du, s.f_int);
+    } catch (const StepFailure& f) {
+      failure = f.reason;
+    }
+    if (failure.empty()) {
+      Residual res{step.f_ext() - s.f_int};
+      for (int c : step.constrained()) res.r[c] = 0.0;
+      const auto [f_ext_norm, f_int_norm, r_norm] = step.norms(s.f_int, res.r);  // (one reduction over the ranks)
+      // A material update that failed at a distorted iterate (NaN stress; e.g. F-bar's
+      // dF scaled by (dJbar / dJ)^(1/dim) at a point squeezed to dJ = 5e-9) makes the
+      // norms NaN on every rank. Caught here: std::max(0, NaN) is 0, and the relative
+      // residual was then 0, a NaN state taken as converged.
+      if (std::isfinite(f_ext_norm) && std::isfinite(f_int_norm) && std::isfinite(r_norm)) {
+        const double scale = std::max(f_ext_norm, f_int_norm);
+        res.absolute = r_norm;
+        res.relative = scale > 0.0 ? r_norm / scale : 0.0;
+        return res;
+      }
+      failure = "the internal force is not finite (a material update failed at this iterate)";
+    }
+    if (first || halving == kHalvings) throw StepFailure{failure};
+    s.correction_free *= 0.5;
+    s.du -= s.correction_free;
+    ++info.backtracks;
+  }
+}
+
+/// Converged: relative to the forces, or (after the first iterate) at the round-off of the
+/// internal force, which a tiny strain cannot beat. `floor` is an estimate: on fine grids
+/// with tiny increments the residual can stall a few times above it (the 1.0e5-dof biaxial
+/// test at 1/2560 of its load: 1.1e-10 against 4.5e-11, for 25 iterations), so a residual
+/// within kStall times the floor that is no longer halved in two iterations is round-off too.
+bool newton_converged(const NewtonState& s, double tolerance, double floor) {
+  constexpr double kStall = 10.0;
+  const std::size_t it = s.residuals.size() - 1;
+  const double absolute = s.absolute_residuals.back();
+  const bool stalled = it >= 3 && absolute < kStall * floor && absolute > 0.5 * s.absolute_residuals[it - 2];
+  return s.residuals.back() < tolerance || (it > 0 && absolute < floor) || stalled;
+}
+
+/// The step's linear solver, made at its first use (a non-symmetric tangent goes to a
+/// general solver as it is: never symmetrised) and told what the system is. A distributed
+/// run's tangent goes to the solver as each rank's share (its points' terms), which the
+/// solver adds up by rows (PETSc), and each rank reads the solution in its own and ghost
+/// rows only (step.halo()).
+template <int dim>
+SystemDescription prepare_solver(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& solvers) {
+  if (!solvers.main) {
+    const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
+    solvers.main = make_linear_solver(settings.linear_solver, kind);
+  }
+  const bool share = solvers.main->adds_shares();
+  const SystemDescription description{dim, [&step] { return step.node_coordinates(); }, share,
+                                      share ? &step.halo() : nullptr};
+  if (!solvers.described) {
+    solvers.main->describe(description);
+    solvers.described = true;
+  }
+  return description;
+}
+
+/// K d = r where the main solver finds K not positive definite (a distorted trial state,
+/// or a genuine instability): the symmetric indefinite system still has a Newton step,
+/// which the general solver gives.
+Vector solve_indefinite(const SparseMatrix& K, const Vector& r, const NewtonSettings& settings, StepSolvers& solvers,
+                        const SystemDescription& description) {
+  auto& general = solvers.general;
+  if (!general) general = make_linear_solver(settings.linear_solver, MatrixKind::General);
+  if (description.shares && !general->adds_shares())
+    throw SolverError(
+        fmt::format("linear_solver.general = \"{}\" cannot solve a distributed run's tangent", general->name()));
+  if (!solvers.general_analysed) {  // this step's pattern (a later step's may differ)
+    general->describe(description);
+    general->analyze(K);
+    solvers.general_analysed = true;
+  }
+  general->factorize(K);
+  return general->solve(r);
+}
+
+/// One Newton correction added to s.du: the tangent assembled (only now that another
+/// iteration follows) and analysed at the step's first, the Dirichlet rows eliminated
+/// with the `prescribed` increments, K d = r solved.
+template <int dim>
+void add_correction(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& solvers,
+                    const SystemDescription& description, Residual& res, const std::vector<double>& prescribed,
+                    NewtonState& s, StepInfo& info) {
+  PhaseTimes& times = info.phases;
+  LinearSolver& solver = *solvers.main;
+  SparseMatrix* tangent = nullptr;
+  DirichletElimination bc;
+  bool on_all_threads = true;  // (false: beside the analysis)
+  const auto assemble = [&] {
+    const auto t = Clock::now();
+    tangent = &step.stiffness(description.shares);
+    const double seconds = seconds_since(t);
+    times.assembly += seconds;
+    if (on_all_threads) solvers.tangent_seconds = seconds;
+    bc.apply_to_matrix(*tangent, step.constrained(), &step.halo(), true);  // make_pattern(): cliques, symmetric
+  };
+  // The pattern is fixed within the load step: analysed at its first tangent, unless the
+  // solver's analysis was made for it (an earlier step's, kept).
+  const bool analysis_due = !solvers.analysed && !solvers.analysed_for(step.pattern());
+  const auto analyse_once = [&] {
+    if (analysis_due) analyse(step.pattern(), step.dofs(), solver, solvers, settings, times);
+    solvers.analysed = true;
+  };
+  const auto add = [&](const Vector& d) {
+    Vector exact = d;
+    bc.impose(exact, prescribed);
+    s.correction_free = exact;
+    for (int c : step.constrained()) s.correction_free[c] = 0.0;
+    s.du += exact;
+  };
+  try {
+    // The symbolic analysis reads the pattern only, serially: where it pays (beside()), on
+    // this thread while the others assemble the step's first tangent into the pattern's
+    // values (a core idled through the analysis: 0.08 s of a load step at 1e5 dof in 2D).
+    // The same analysis and tangent either way.
+    if (analysis_due && beside(step.pattern(), solver, solvers, description.shares, settings.analysis_beside)) {
+      on_all_threads = false;
+      ++times.beside;
+      run_beside(analyse_once, assemble);
+    } else {
+      assemble();
+      analyse_once();
+    }
+    SparseMatrix& K = *tangent;
+    bc.apply_to_rhs(res.r, prescribed);
+    if (solver.iterative()) {
+      s.eta = forcing_term(s.residuals, settings.tolerance, s.eta);
+      solver.set_relative_tolerance(s.eta);
+    }
+    auto t0 = Clock::now();
+    try {
+      solver.factorize(K);
+      times.factor += seconds_since(t0);
+      t0 = Clock::now();
+      const long krylov = solver.iterations();
+      add(solver.solve(res.r));
+      times.solve += seconds_since(t0);
+      times.krylov += solver.iterations() - krylov;
+    } catch (const SolverError&) {
+      if (solver.general()) throw;
+      t0 = Clock::now();
+      add(solve_indefinite(K, res.r, settings, solvers, description));
+      times.factor += seconds_since(t0);
+      ++info.indefinite_solves;
+    }
+    ++times.iterations;
+  } catch (const SolverError& e) {
+    throw StepFailure{e.what()};
+  }
+}
+
 /// Newton-Raphson for one load step; returns the converged increment or throws
 /// StepFailure. `start`: a converged increment of the same step to start from (a later
 /// staggered iteration of regularised plasticity), the prescribed increments in it.
 template <int dim>
 Vector newton(LoadStep<dim>& step, const NewtonSettings& settings, StepSolvers& solvers, StepInfo& info,
               const Vector* start = nullptr) {
-  PhaseTimes& times = info.phases;
-  std::vector<double> residuals, absolute_residuals;
   // The first iterate linearises about the converged state (du = 0) and brings the
   // prescribed increments in through the right-hand side: d_c = du_c, K_ff d_f = r_f - K_fc du_c.
   // (Starting from du_c on the boundary and 0 inside would ask the tangent of a distorted state.)
-  Vector du = start ? *start : Vector::Zero(step.dofs().num_dofs());
+  NewtonState s;
+  s.du = start ? *start : Vector::Zero(step.dofs().num_dofs());
   const bool applied = start != nullptr;  // the prescribed increments are in du already
   const std::vector<double> zeros(step.constrained().size(), 0.0);
-  if (!solvers.main) {
-    // A non-symmetric tangent goes to a general solver as it is: never symmetrised.
-    const MatrixKind kind = step.symmetric_tangent() ? MatrixKind::Symmetric : MatrixKind::General;
-    solvers.main = make_linear_solver(settings.linear_solver, kind);
-  }
-  // A distributed run's tangent goes to the solver as each rank's share (its points'
-  // terms), which the solver adds up by rows (PETSc): no sum of the whole matrix.
-  const bool share = solvers.main->adds_shares();
-  // Each rank reads the solution in its own and ghost rows only (step.halo()).
-  const SystemDescription description{dim, [&] { return step.node_coordinates(); }, share,
-                                      share ? &step.halo() : nullptr};
-  if (!solvers.described) {
-    solvers.main->describe(description);
-    solvers.described = true;
-  }
-  LinearSolver* solver = solvers.main.get();
-  auto& general = solvers.general;
-  Vector f_int;
+  const SystemDescription description = prepare_solver(step, settings, solvers);
   const double floor = step.roundoff_force();
-  double eta = 1e-2;       // the forcing term of an iterative solver (forcing_term)
-  Vector correction_free;  // the free part of the last Newton correction (backtracking halves it)
+  constexpr double kDivergence = 1e6;  // a residual this many times the first's (or the tolerance) diverges
   for (int it = 0;; ++it) {
-    auto t0 = Clock::now();
-    // Backtracking to admissibility: a Newton correction that inverts a point (det dF <=
-    // 0), or at which a material update fails (a non-finite internal force), is halved,
-    // on the free dofs only (the prescribed increments stay as they are), up to
-    // kHalvings times before the step fails. Far from the solution (the first
-    // iterates of a step that starts a mechanism) the full correction can overshoot by
-    // far more than the increment itself; the step need not be cut for that.
-    constexpr int kHalvings = 8;
-    Vector r;
-    double err = 0.0, absolute = 0.0;
-    for (int halving = 0;; ++halving) {
-      std::string failure;
-      try {
-        step.internal_force(du, f_int);
-      } catch (const StepFailure& f) {
-        failure = f.reason;
-      }
-      if (failure.empty()) {
-        r = step.f_ext() - f_int;
-        for (int c : step.constrained()) r[c] = 0.0;
-        const auto [f_ext_norm, f_int_norm, r_norm] = step.norms(f_int, r);  // (one reduction over the ranks)
-        // A material update that failed at a distorted iterate (NaN stress; e.g. F-bar's
-        // dF scaled by (dJbar / dJ)^(1/dim) at a point squeezed to dJ = 5e-9) makes the
-        // norms NaN on every rank. Caught here: std::max(0, NaN) is 0, and the relative
-        // residual below was then 0, a NaN state taken as converged.
-        if (std::isfinite(f_ext_norm) && std::isfinite(f_int_norm) && std::isfinite(r_norm)) {
-          const double scale = std::max(f_ext_norm, f_int_norm);
-          absolute = r_norm;
-          err = scale > 0.0 ? r_norm / scale : 0.0;
-          break;
-        }
-        failure = "the internal force is not finite (a material update failed at this iterate)";
-      }
-      if (it == 0 || halving == kHalvings) throw StepFailure{failure};
-      correction_free *= 0.5;
-      du -= correction_free;
-      ++info.backtracks;
-    }
-    times.assembly += seconds_since(t0);
-    if (it == 0 && !applied) {  // the prescribed increments are not applied yet: that is out of balance too
-      if (step.largest_increment() > 0.0) err = std::max(err, 1.0);  // (every rank's)
-    }
-    residuals.push_back(err);
+    const auto t0 = Clock::now();
+    Residual res = residual_at(step, s, it == 0, info);
+    info.phases.assembly += seconds_since(t0);
+    double err = res.relative;
+    // The prescribed increments not applied yet are out of balance too (every rank's).
+    if (it == 0 && !applied && step.largest_increment() > 0.0) err = std::max(err, 1.0);
+    s.residuals.push_back(err);
+    s.absolute_residuals.push_back(res.absolute);
     info.residuals.push_back(err);
     if (!std::isfinite(err)) throw StepFailure{"the out-of-balance force is not finite"};
-    // Converged: relative to the forces, or (after the first iterate) at the round-off of
-    // the internal force, which a tiny strain cannot beat. `floor` is an estimate: on fine
-    // grids with tiny increments the residual can stall a few times above it (the 1.0e5-dof
-    // biaxial test at 1/2560 of its load: 1.1e-10 against 4.5e-11, for 25 iterations),
-    // so a residual within ten times the floor that no longer decreases (not halved in
-    // two iterations) is round-off too.
-    absolute_residuals.push_back(absolute);
-    const bool stalled = it >= 3 && absolute < 10.0 * floor && absolute > 0.5 * absolute_residuals[it - 2];
-    if (err < settings.tolerance || (it > 0 && absolute < floor) || stalled) {
-      step.converged(f_int);
-      return du;  // (a distributed run's: right in own and ghost rows)
+    if (newton_converged(s, settings.tolerance, floor)) {
+      step.converged(s.f_int);
+      return s.du;  // (a distributed run's: right in own and ghost rows)
     }
     if (it == settings.max_iterations)
       throw StepFailure{fmt::format("no convergence in {} iterations (residual {:.3e})", it, err)};
-    if (it >= 2 && err > 1e6 * std::max(residuals.front(), settings.tolerance))
+    if (it >= 2 && err > kDivergence * std::max(s.residuals.front(), settings.tolerance))
       throw StepFailure{fmt::format("Newton diverges (residual {:.3e})", err)};
-    SparseMatrix* tangent = nullptr;
-    DirichletElimination bc;
-    bool on_all_threads = true;  // (false: beside the analysis)
-    const auto assemble = [&] {  // only when another iteration follows
-      const auto t = Clock::now();
-      tangent = &step.stiffness(share);
-      const double seconds = seconds_since(t);
-      times.assembly += seconds;
-      if (on_all_threads) solvers.tangent_seconds = seconds;
-      bc.apply_to_matrix(*tangent, step.constrained(), &step.halo(), true);  // make_pattern(): cliques, symmetric
-    };
-    // The pattern is fixed within the load step: analysed at its first tangent, unless
-    // the solver's analysis was made for it (an earlier step's, kept).
-    const bool analysis_due = !solvers.analysed && !solvers.analysed_for(step.pattern());
-    const auto analyse_once = [&] {
-      if (analysis_due) analyse(step.pattern(), step.dofs(), *solver, solvers, settings, times);
-      solvers.analysed = true;
-    };
     const std::vector<double>& prescribed = it == 0 && !applied ? step.increments() : zeros;
-    const auto correction = [&](const Vector& d) {
-      Vector exact = d;
-      bc.impose(exact, prescribed);
-      correction_free = exact;
-      for (int c : step.constrained()) correction_free[c] = 0.0;
-      return exact;
-    };
-    try {
-      // The symbolic analysis reads the pattern only, serially: where it pays (beside()),
-      // on this thread while the others assemble the step's first tangent into the
-      // pattern's values (a core idled through the analysis: 0.08 s of a load step at 1e5
-      // dof in 2D). The same analysis and tangent either way.
-      if (analysis_due && beside(step.pattern(), *solver, solvers, share, settings.analysis_beside)) {
-        on_all_threads = false;
-        ++times.beside;
-        run_beside(analyse_once, assemble);
-      } else {
-        assemble();
-        analyse_once();
-      }
-      SparseMatrix& K = *tangent;
-      bc.apply_to_rhs(r, prescribed);
-      if (solver->iterative()) {
-        eta = forcing_term(residuals, settings.tolerance, eta);
-        solver->set_relative_tolerance(eta);
-      }
-      try {
-        t0 = Clock::now();
-        solver->factorize(K);
-        times.factor += seconds_since(t0);
-        t0 = Clock::now();
-        const long krylov = solver->iterations();
-        du += correction(solver->solve(r));
-        times.solve += seconds_since(t0);
-        times.krylov += solver->iterations() - krylov;
-      } catch (const SolverError&) {
-        // Not positive definite at this iterate (a distorted trial state, or a genuine
-        // instability): the symmetric indefinite system still has a Newton step.
-        if (solver->general()) throw;
-        t0 = Clock::now();
-        if (!general) general = make_linear_solver(settings.linear_solver, MatrixKind::General);
-        if (share && !general->adds_shares())
-          throw SolverError(
-              fmt::format("linear_solver.general = \"{}\" cannot solve a distributed run's tangent", general->name()));
-        if (!solvers.general_analysed) {  // this step's pattern (a later step's may differ)
-          general->describe(description);
-          general->analyze(K);
-          solvers.general_analysed = true;
-        }
-        general->factorize(K);
-        du += correction(general->solve(r));
-        times.factor += seconds_since(t0);
-        ++info.indefinite_solves;
-      }
-      ++times.iterations;
-    } catch (const SolverError& e) {
-      throw StepFailure{e.what()};
-    }
+    add_correction(step, settings, solvers, description, res, prescribed, s, info);
   }
 }
 
@@ -419,7 +468,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   double lambda = start.load_factor, dlambda = start.next_increment > 0.0 ? start.next_increment : nominal;
   StepSolvers solvers;  // across the steps: an unchanged pattern keeps its analysis, a changed one its ordering
   solvers.carried = start.ordering;
-  while (lambda < 1.0 - 1e-12) {
+  while (lambda < 1.0 - kLoadFactorEnd) {
     dlambda = std::min(dlambda, 1.0 - lambda);
     StepInfo info;
     std::unique_ptr<LoadStep<dim>> step;  // kept for the grid fields the observer may ask for
@@ -473,7 +522,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       }
     }
     lambda += dlambda;
-    if (1.0 - lambda < 1e-12) lambda = 1.0;
+    if (1.0 - lambda < kLoadFactorEnd) lambda = 1.0;
     info.step = ++summary.steps;
     info.load_factor = lambda;
     info.increment = dlambda;
