@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The softening footing of docs/shear-bands.md (issue 11, benchmark 3):
+"""The softening footing of docs/shear-bands.md:
 examples/footing_softening_2d.toml, regularised (l = 0.1) and classical (no
 [regularisation]), on three grids (h = l/2, l/3, l/4, 2 points per cell and direction)
 and with 3 points per cell on the middle grid, pushed to s/B = 0.06 (the peak is at

@@ -7,7 +7,7 @@
 
 namespace gradmpm::test {
 
-/// The bi-material plate in tension (issue 4): 1 x 0.25, E = 1000 | 5000 (nu = 0), cells
+/// The bi-material plate in tension: 1 x 0.25, E = 1000 | 5000 (nu = 0), cells
 /// of h and one cell of margin, the right edge pulled by 1e-3 in one load step, e-RA with
 /// length scale l at the end.
 inline std::string bimaterial_plate(double h, double l) {

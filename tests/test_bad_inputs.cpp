@@ -1,4 +1,4 @@
-// Requirement (issue 12, point 8): every input of the bad-input corpus
+// Requirement: every input of the bad-input corpus
 // (tests/bad_inputs/corpus.txt: malformed files, impossible values, sizes beyond the
 // machine, a failing solve) ends with its documented exit code and a one-line message
 // holding the documented fragment (command-line errors add one line pointing to --help); a refused input (exit 2)

@@ -1,4 +1,4 @@
-// Requirements on checkpoint and restart (app/Checkpoint.hpp; issue 12, point 2):
+// Requirements on checkpoint and restart (app/Checkpoint.hpp):
 //  R1 an archive read back from its HDF5 file is the archive written, bit for bit (NaN,
 //     -0, subnormals, 1e308, integer extremes, texts with newlines and NUL bytes, empty
 //     arrays);

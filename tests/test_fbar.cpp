@@ -233,7 +233,7 @@ std::array<int, 2> rank_changes(const std::string& file, const std::vector<std::
 }
 
 TEST(FBar, PointsOfTheMpiTestCasesChangeRankDuringTheRun) {
-  // Requirement (issue 14): an elasto-plastic MPI test case whose points cross rank
+  // Requirement: an elasto-plastic MPI test case whose points cross rank
   // boundaries during the run. The footings' points under the footing move less than a
   // quarter cell at the cuts (mid-depth); the 3D column settles under its weight by
   // about half a cell at mid-height, so its points cross into the lower rank's cells.

@@ -10,8 +10,8 @@
 //     every step converges uncut and q/c stays within 5 % of Prandtl's 2 + pi from
 //     s/B = 0.02 to 0.03; before any active cell is empty the answers equal those without
 //     the penalty. (Which of the two the run without it does depends on round-off: it
-//     stopped at s/B = 0.0125 until the assembly's summation order changed, issue 13,
-//     and then ran on with one cut and a jagged q/c, 5.08, 5.08, 5.13, 5.24, 5.11, ...)
+//     stopped at s/B = 0.0125 with one summation order of the assembly, and runs on
+//     with one cut and a jagged q/c, 5.08, 5.08, 5.13, 5.24, 5.11, ... with the present one.)
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 

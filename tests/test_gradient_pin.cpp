@@ -1,4 +1,4 @@
-// Requirement (issue 12, point 7b): a support that only removes rigid motion does not
+// Requirement: a support that only removes rigid motion does not
 // disturb the gradient step when the user marks it so (`gradient_boundary = false`).
 // A node pinned in y becomes a u-RA Dirichlet node: the smoothed field is held there at a
 // point, and eps_yy,g spikes around it, more on finer grids (a point condition of a

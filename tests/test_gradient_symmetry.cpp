@@ -1,4 +1,4 @@
-// Requirement (issue 12, point 7a): the gradient step gives a half model on a symmetry plane
+// Requirement: the gradient step gives a half model on a symmetry plane
 // the full model's answer. A shear component is odd across the plane and must vanish on it;
 // with the natural condition everywhere a half model got eps_xy,g wrong (by 44 % of its
 // maximum in the issue's quarter model). Rollers (some but not all components held) now

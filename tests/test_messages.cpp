@@ -1,4 +1,4 @@
-// Requirements on messages (issue 12, point 4): every bad input gets one line, exit 2, and a
+// Requirements on messages: every bad input gets one line, exit 2, and a
 // true statement of what is wrong.
 //  R1 values and keys are printed on one line: arrays with NaN, line breaks in strings and
 //     keys escaped (\n);

@@ -1,4 +1,4 @@
-// Requirements on the gradient step inside the MPM (issue 4):
+// Requirements on the gradient step inside the MPM:
 //  R1 2D: a uniform strain state is left unchanged by e-RA, and by u-RA with Dirichlet
 //     data (the linear displacement held on the boundary nodes);
 //  R2 2D: a sinusoidal field c = cos(kx x) cos(ky y) on the material points is damped by

@@ -1,4 +1,4 @@
-// Requirements of the gradient study in 2D (issue 4), on cases read from case-file text:
+// Requirements of the gradient study in 2D, on cases read from case-file text:
 //  R1 bi-material plate in tension (nu = 0, E = [1000, 5000]): the e-RA smoothing zone
 //     around the material interface has a width proportional to l, and once h << l it
 //     does not depend on the grid spacing. Width w = integral |eps_g - eps_c| dA /

@@ -1,4 +1,4 @@
-// Requirement (issue 14, grid partition step 2b: docs/parallel.md): a rank's
+// Requirement (docs/parallel.md): a rank's
 // node-to-equation map (DofMap) holds memory only near the nodes it knows, not an
 // integer per grid node, and reads as before: PagedInts reads the default wherever
 // nothing else was written, keeps every value written, allocates a page only on the

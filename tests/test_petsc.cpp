@@ -1,4 +1,4 @@
-// Requirements on the PETSc linear solver (issue 13; linear_solver.type = "petsc"):
+// Requirements on the PETSc linear solver (linear_solver.type = "petsc"):
 //  P1 its defaults (CG with GAMG for symmetric matrices; MUMPS's LU for general ones, or
 //     GMRES with GAMG when -ksp_type is named) give CHOLMOD's and UMFPACK's solutions to
 //     1e-8;

@@ -1,4 +1,4 @@
-// Requirement (issue 14, stage 4b): a distributed run's points travel between ranks with
+// Requirement: a distributed run's points travel between ranks with
 // every per-point array, their state and their ids, and a rank's points are listed in
 // increasing id whichever way they came (mpm/PointMigration.hpp). The exchange itself is
 // MPI's (the Mpi.* tests run it on 2 and 3 ranks against the serial answer); here, on one

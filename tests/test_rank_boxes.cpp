@@ -1,4 +1,4 @@
-// Requirement (issue 14, step 5: docs/parallel.md): a distributed run cuts the grid into
+// Requirement (docs/parallel.md): a distributed run cuts the grid into
 // boxes of cells, one per rank, laid out as PETSc's DMDA lays out a structured grid
 // (grid/RankBoxes.hpp). Every cell and every node has exactly one owner, whose box holds
 // it; the cut balances the points, and among balanced arrays of ranks takes the one whose

@@ -1,4 +1,4 @@
-// Requirements on the output folder of a run (io/RunFolder.hpp; issue 12, point 1):
+// Requirements on the output folder of a run (io/RunFolder.hpp):
 //  R1 a failed run does not mix with the previous one: its folder afterwards holds that
 //     run's files only (its converged steps), none of the previous run's, and the user's
 //     own files stay;

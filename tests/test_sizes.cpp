@@ -1,4 +1,4 @@
-// Requirements on sizes (issue 12, point 3): a case too big for the machine is refused with
+// Requirements on sizes: a case too big for the machine is refused with
 // exit 2 and the estimate, before anything big is allocated, and never with a false message.
 //  R1 a grid whose nodes cannot be numbered in 32-bit dofs is refused on grid.cells with
 //     its node count (it used to overflow 32-bit ints: a false "constraints[0].min ... at

@@ -1,4 +1,4 @@
-// Requirements on small strains (issue 12, point 5): a step of tiny strain converges like a
+// Requirements on small strains: a step of tiny strain converges like a
 // large one.
 //  R1 linear elasticity at a prescribed displacement of 1e-3 ... 1e-9 on a 10 x 4 block
 //     (strains 2.5e-4 ... 2.5e-10) converges in one Newton iteration without a cut, and the

@@ -1,4 +1,4 @@
-// Requirements on threads (issue 12, point 6):
+// Requirements on threads:
 //  R1 OpenMP's idle threads wait passively by default (spinning made runs 10-25x slower on a
 //     machine shared with other processes); a user's OMP_WAIT_POLICY is kept;
 //  R2 --threads N sets the threads of a run, and the answer does not depend on them

@@ -1,4 +1,4 @@
-// Requirement (issue 14, grid partition, docs/parallel.md): a distributed run's load step
+// Requirement (docs/parallel.md): a distributed run's load step
 // numbers its equations by the nodes' owners (DofMap with a margin: neighbour messages,
 // no all-reduce over the grid) and every rank gets the numbering of the union over the
 // ranks (DofMap::every_node) wherever it looks: the same equation for each node it knows,

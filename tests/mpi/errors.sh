@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Requirement (issue 14): an error on N MPI ranks stops every rank with one message and
+# Requirement: an error on N MPI ranks stops every rank with one message and
 # the serial exit code, never a hang: a solver that cannot run distributed (exit 2, the
 # key named), an output folder rank 0 cannot create (exit 2), a Newton failure (exit 1),
 # points leaving the grid, seen by a load step or by the gradient step (exit 1, their ids

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Requirement (issue 14, grid partition step 3): the grid's outputs come from the nodes'
+# Requirement: the grid's outputs come from the nodes'
 # owners and give the serial answer: the node sets' reactions (reactions.csv, summed over
 # the ranks from the nodes each owns) and the grid's VTU (one piece per rank, its cells,
 # the values at their corners fetched from their owners) as the serial run's, with the

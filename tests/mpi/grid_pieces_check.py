@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Requirement (issue 14, grid partition step 3): a distributed run writes the grid of
+"""Requirement: a distributed run writes the grid of
 each output step as a .pvtu of one piece per rank, each piece its rank's cells with the
 fields at their corners taken from the nodes' owners (nothing gathered whole), and VTK's
 XML reader (ParaView's) reads it as the serial run's grid: every cell once, and at every

@@ -1,4 +1,4 @@
-// Requirement (issue 14, no grid-sized collective in a load step, docs/parallel.md): the
+// Requirement (no grid-sized collective in a load step, docs/parallel.md): the
 // per-node sums made before a step's numbering exists (F-bar's node supports, the
 // regularisation's weak-node diagonal) are summed at the nodes' owners with neighbour
 // messages (grid/NodeSums.hpp), and give every rank the sum over the ranks at each node it

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Requirement (issue 14): a distributed run's points.pvd lists one .pvtu per output step,
+"""Requirement: a distributed run's points.pvd lists one .pvtu per output step,
 each with one piece per rank, that VTK's own XML reader (the one ParaView uses) reads as
 the whole body: every point once, and at the last step the positions and stresses of
 points_final.csv. Each piece is its rank's points (stage 4b); with --moves some points

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Requirement (issue 14, checkpoints of a distributed run): each rank writes its own points
+# Requirement (checkpoints of a distributed run): each rank writes its own points
 # into a checkpoint (one file per rank, no rank holding every point), and a run restarted
 # from it on another number of ranks, serially included, or from a serial checkpoint on
 # several ranks, ends as the uninterrupted run (points_final, points_gradient, tracked

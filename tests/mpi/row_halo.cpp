@@ -1,4 +1,4 @@
-// Requirement (issue 14, grid partition step 2, docs/parallel.md): on any number of
+// Requirement (docs/parallel.md): on any number of
 // ranks, RowHalo's neighbour exchanges give each rank what a sum of the whole vector over
 // the ranks gave, in every row it owns or reads (its ghost rows), the same bits on every
 // rank that holds a row, for one vector or several columns at once; its norms (several

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Requirement (issue 14): a run on N MPI ranks gives the serial answer: positions,
+# Requirement: a run on N MPI ranks gives the serial answer: positions,
 # stresses and state of every point (points_final.csv), the reactions, the gradient
 # fields, the tracked points and the energy balance (gathered from the ranks that own the
 # points) to 1e-8 of each column's scale.

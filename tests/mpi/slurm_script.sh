@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Requirement (issue 14): the cluster job script (scripts/cluster/gradmpm.sbatch) launches a
+# Requirement: the cluster job script (scripts/cluster/gradmpm.sbatch) launches a
 # distributed run that gives the serial answer. SLURM is not here: the variables sbatch
 # would set are set by hand (2 tasks on one node, one thread each), and the script's
 # mpirun line runs as it would in the job.

@@ -5,7 +5,7 @@
 // set) is always kept.
 //
 // - OMP_WAIT_POLICY=passive: GNU OpenMP's idle threads spin by default, which made runs on
-//   a machine shared with other processes 10-25x slower than one thread (issue 12).
+//   a machine shared with other processes 10-25x slower than one thread.
 // - GLIBC_TUNABLES glibc.malloc.hugetlb=1: glibc's malloc asks for transparent huge pages
 //   (madvise) on the memory it maps. A load step allocates its arrays afresh (stencils,
 //   pattern, per-point responses: 50 MB of stencils alone for 2e5 points in 2D), and on a
