@@ -7,6 +7,7 @@
 // key, value, command line, or an output path that cannot be written).
 //
 //   mpirun -n N gradmpm run CASE.toml ...   the same run on N MPI ranks (docs/parallel.md)
+//   --no-tuning (or GRADMPM_TUNING=0)       the runtimes untuned (tuning/ProcessTuning.hpp)
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -22,18 +23,20 @@
 #include "gradmpm/app/MpiLaunch.hpp"
 #include "gradmpm/app/RunCase.hpp"
 #include "gradmpm/core/Errors.hpp"
-#include "gradmpm/core/LoadTimeEnvironment.hpp"
 #include "gradmpm/core/Ranks.hpp"
 
 int main(int argc, char** argv) {
-  // OpenMP waiting passively, malloc on huge pages keeping freed memory: read when the
-  // program loads, so set by executing once more (core/LoadTimeEnvironment.hpp).
-  gradmpm::set_load_time_environment(argv);
+  // The process tuning was decided before main (tuning/ProcessTuning.hpp).
   CLI::App app{
       "gradmpm: implicit quasi-static Material Point Method with Ru-Aifantis gradient elasticity.\n"
       "Each analysis is described by a TOML case file (see examples/ and docs/case-files.md)."};
   app.set_version_flag("--version", std::string("gradmpm ") + GRADMPM_VERSION);
   app.require_subcommand(1);
+  app.fallthrough();  // --no-tuning after the subcommand too
+  bool no_tuning = false;  // acted on before main (tuning/ProcessTuning.hpp); taken here so it parses
+  app.add_flag("--no-tuning", no_tuning,
+               "leave the runtimes as their defaults and the environment say: no passive OpenMP waiting, no "
+               "serial regions as calls, no BLAS threads set (as GRADMPM_TUNING=0; docs/performance.md)");
 
   // An empty path is a mistake (a shell variable that was not set), never "the default".
   const CLI::Validator non_empty(

@@ -60,7 +60,7 @@
 
 #include "gradmpm/app/MpiLaunch.hpp"
 #include "gradmpm/app/MpmCase.hpp"
-#include "gradmpm/core/LoadTimeEnvironment.hpp"
+#include "gradmpm/tuning/ProcessTuning.hpp"
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Timer.hpp"
 
@@ -191,11 +191,7 @@ void bench(const std::string& name, CaseFile cf, std::ofstream& csv, int threads
 }  // namespace
 
 int main(int argc, char** argv) {
-  // malloc on huge pages keeping freed memory, as gradmpm runs (core/LoadTimeEnvironment.hpp);
-  // OpenMP's waiting is left as the environment says (the figures of docs/performance.md were so measured).
-  LoadTimeChoices load_time;
-  load_time.passive_openmp = false;
-  set_load_time_environment(argv, load_time);
+  // The process is tuned as gradmpm is (tuning/ProcessTuning.hpp: --no-tuning, GRADMPM_TUNING).
   // Under mpirun: an MPI session for the run (PETSc then splits the solves, the driver the
   // point loops), rank 0 reporting.
   std::optional<ranks::Session> session;
@@ -218,12 +214,14 @@ int main(int argc, char** argv) {
       solver = argv[++i];
     else if (!std::strcmp(argv[i], "--options") && i + 1 < argc)
       options = argv[++i];
+    else if (!std::strcmp(argv[i], "--no-tuning"))
+      continue;  // read before main (tuning/ProcessTuning.hpp)
     else if (!std::strcmp(argv[i], "--step") && i + 1 < argc)
       reported_step = std::max(1, std::atoi(argv[++i]));
     else {
       fmt::print(stderr,
                  "usage: bench_mpm [--quick] [--threads N] [--csv FILE] [--only CASE:SIZE] [--solver NAME] [--options "
-                 "STRING] [--step K]\n");
+                 "STRING] [--step K] [--no-tuning]\n");
       return 2;
     }
   }
@@ -236,12 +234,8 @@ int main(int argc, char** argv) {
   csv << "case,dim,dof,points,nnz,threads,pattern_s,assembly_s,analysis_s,factor_s,solve_s,update_s,gradient_s,peak_"
          "mib,nonlocal_s,staggers,solver,krylov_its,wall_s,ranks\n";
   if (ranks::rank() == 0) {
-    const std::string hugetlb = malloc_hugetlb();
-    fmt::print(
-        "bench_mpm: {} rank(s), {} thread(s) each, {} sweep, glibc.malloc.hugetlb={}, freed memory {}; seconds "
-        "per Newton iteration\n",
-        ranks::size(), threads, quick ? "quick" : "full", hugetlb.empty() ? "0" : hugetlb,
-        malloc_keeps_freed_memory() ? "kept" : "returned");
+    fmt::print("bench_mpm: {} rank(s), {} thread(s) each, {} sweep, {}; seconds per Newton iteration\n", ranks::size(),
+               threads, quick ? "quick" : "full", tuning::summary());
   }
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};

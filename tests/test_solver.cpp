@@ -10,8 +10,7 @@
 // ordering it is asked to compare only where its factor is cheaper, and spends less on the
 // ordering of a system factorised once, factorises again on its analysis after its factor
 // was released, and CHOLMOD leaves the caller's OpenMP settings as
-// they were and runs its serial OpenMP regions as plain calls (SerialOpenMpRegions), which
-// changes no other region.
+// they were (its serial regions as plain calls: test_tuning.cpp).
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -28,7 +27,6 @@
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/Dirichlet.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
-#include "gradmpm/solver/linear/SerialOpenMpRegions.hpp"
 
 using namespace gradmpm;
 
@@ -576,77 +574,4 @@ TEST(LinearSolver, CholmodReleasesItsFactorAndFactorisesAgainOnItsAnalysis) {
   const Vector x = released->solve(b);
   EXPECT_TRUE(x == kept->solve(b));
   EXPECT_LT((B * x - b).norm(), 1e-12 * b.norm());
-}
-
-// Requirement: CHOLMOD's OpenMP regions that run serially are plain calls, not libgomp
-// teams of one (a system call each, solver/linear/SerialOpenMpRegions.hpp), and the
-// factorisation's answer is unchanged. The count stays put if the executable's
-// GOMP_parallel is not the one libcholmod calls.
-TEST(LinearSolver, CholmodsSerialRegionsRunAsPlainCalls) {
-  const SparseMatrix A = test::laplacian_2d(60);
-  const Vector b = Vector::Ones(A.rows());
-  const long before = SerialOpenMpRegions::plain_calls();
-  const auto s = make_linear_solver(named("cholmod"));
-  s->compute(A);
-  const Vector x = s->solve(b);
-  EXPECT_GT(SerialOpenMpRegions::plain_calls(), before);
-  EXPECT_LT((A * x - b).norm(), 1e-12 * b.norm());
-}
-
-// Requirement: within a SerialOpenMpRegions scope, a region that would get one thread
-// sees what a team of one sees (thread 0 of 1; orphaned worksharing, single and barrier
-// do all the work once), and every other region, and every region outside a scope, is
-// libgomp's: the scope changes how serial regions start, never which regions run in
-// parallel.
-TEST(SerialOpenMpRegions, OnlyRegionsOfOneThreadInTheScopeAreCalledDirectly) {
-  const int levels = omp_get_max_active_levels(), dynamic = omp_get_dynamic();
-  omp_set_dynamic(0);
-  auto one_thread_region = [](bool parallel, int& thread, int& team, int& level, long& sum) {
-    sum = 0;
-#pragma omp parallel if (parallel) num_threads(2)
-    {
-#pragma omp single
-      {
-        thread = omp_get_thread_num();
-        team = omp_get_num_threads();
-        level = omp_get_level();
-      }
-      long local = 0;
-#pragma omp for schedule(dynamic, 7)
-      for (int i = 1; i <= 100; ++i) local += i;
-#pragma omp atomic
-      sum += local;
-#pragma omp barrier
-    }
-  };
-  int thread = -1, team = -1, level = -1;
-  long sum = 0;
-  long calls = SerialOpenMpRegions::plain_calls();
-  one_thread_region(false, thread, team, level, sum);  // outside a scope: libgomp's team of one
-  EXPECT_EQ(SerialOpenMpRegions::plain_calls(), calls);
-  EXPECT_EQ(level, 1);
-  EXPECT_EQ(sum, 5050);
-  {
-    SerialOpenMpRegions scope;
-    one_thread_region(false, thread, team, level, sum);  // if(false): called directly
-    EXPECT_EQ(SerialOpenMpRegions::plain_calls(), calls + 1);
-    EXPECT_EQ(thread, 0);
-    EXPECT_EQ(team, 1);
-    EXPECT_EQ(level, 0) << "no team was set up";
-    EXPECT_EQ(sum, 5050);
-    one_thread_region(true, thread, team, level, sum);  // two threads asked for and given
-    EXPECT_EQ(SerialOpenMpRegions::plain_calls(), calls + 1);
-    EXPECT_EQ(team, 2);
-    EXPECT_EQ(sum, 5050);
-    omp_set_max_active_levels(0);  // as CHOLMOD's calls under OpenBLAS: every region serial
-    one_thread_region(true, thread, team, level, sum);
-    EXPECT_EQ(SerialOpenMpRegions::plain_calls(), calls + 2);
-    EXPECT_EQ(team, 1);
-    EXPECT_EQ(sum, 5050);
-    omp_set_max_active_levels(levels);
-  }
-  one_thread_region(false, thread, team, level, sum);  // the scope has ended
-  EXPECT_EQ(SerialOpenMpRegions::plain_calls(), calls + 2);
-  EXPECT_EQ(level, 1);
-  omp_set_dynamic(dynamic);
 }

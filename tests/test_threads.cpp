@@ -10,17 +10,7 @@
 //     measured on a 2.3e4-dof footing), and a rerun with the same threads is byte for byte
 //     the same (docs/reliability.md);
 //  R3 --threads 0 is refused with exit 2.
-// and on the run's other load-time settings (core/LoadTimeEnvironment.hpp):
-//  R4 glibc's malloc asks for transparent huge pages (glibc.malloc.hugetlb=1, added to the
-//     user's GLIBC_TUNABLES) unless the user's GLIBC_TUNABLES names that tunable: first
-//     touches of 4 KiB pages made a load step's allocations cost 0.2-0.3 s on this machine
-//     kind (docs/performance.md);
-//  R5 the tunable is read as glibc reads GLIBC_TUNABLES (colon-separated, last one wins);
-//  R6 freed memory stays in the process (glibc.malloc.mmap_max=0 and a trim threshold of
-//     1 TiB added to the user's GLIBC_TUNABLES) unless the user set either tunable (in
-//     GLIBC_TUNABLES or by glibc's MALLOC_MMAP_MAX_ / MALLOC_TRIM_THRESHOLD_): memory given
-//     back and touched again made the first factorisation of each load step 3 times slower
-//     on this machine kind (docs/performance.md).
+// (The process tuning's other parts: test_tuning.cpp.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,7 +18,6 @@
 #include <cstdlib>
 
 #include "CliTestUtil.hpp"
-#include "gradmpm/core/LoadTimeEnvironment.hpp"
 
 using namespace gradmpm::test;
 
@@ -106,48 +95,4 @@ TEST_F(Threads, ZeroThreadsIsRefused) {
   const CliResult r = run_gradmpm("run " + footing() + " --threads 0 --out " + (dir / "z").string());
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("--threads"), std::string::npos) << r.err;
-}
-
-TEST_F(Threads, MallocAsksForHugePagesUnlessTheUserSaysOtherwise) {
-  expect_run_says("h", "env -u GLIBC_TUNABLES", "), huge pages (glibc.malloc.hugetlb=1)");
-  expect_run_says("o", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0", "), no huge pages");
-  // another tunable of the user's: hugetlb is added beside it
-  expect_run_says("a", "GLIBC_TUNABLES=glibc.malloc.arena_max=2", "), huge pages (glibc.malloc.hugetlb=1)");
-}
-
-TEST_F(Threads, FreedMemoryIsKeptUnlessTheUserSaysOtherwise) {
-  const std::string plain = "env -u GLIBC_TUNABLES -u MALLOC_MMAP_MAX_ -u MALLOC_TRIM_THRESHOLD_";
-  expect_run_says("k", plain, "huge pages (glibc.malloc.hugetlb=1), freed memory kept (glibc.malloc.mmap_max=0)");
-  expect_run_says("m", plain + " GLIBC_TUNABLES=glibc.malloc.mmap_max=65536", "), freed memory returned");
-  expect_run_says("t", plain + " MALLOC_TRIM_THRESHOLD_=131072", "), freed memory returned");
-  // the user's hugetlb choice and the kept memory go together
-  expect_run_says("h", plain + " GLIBC_TUNABLES=glibc.malloc.hugetlb=0", "no huge pages, freed memory kept");
-}
-
-TEST(LoadTimeEnvironment, HugetlbIsReadAsGlibcReadsItsTunables) {
-  const char* saved = std::getenv("GLIBC_TUNABLES");
-  const std::string keep = saved ? saved : "";
-  const auto read = [](const char* tunables) {
-    ::setenv("GLIBC_TUNABLES", tunables, 1);
-    return gradmpm::malloc_hugetlb();
-  };
-  EXPECT_EQ(read("glibc.malloc.hugetlb=1"), "1");
-  EXPECT_EQ(read("glibc.malloc.arena_max=2:glibc.malloc.hugetlb=0"), "0");
-  EXPECT_EQ(read("glibc.malloc.hugetlb=1:glibc.malloc.arena_max=2"), "1");
-  EXPECT_EQ(read("glibc.malloc.hugetlb=1:glibc.malloc.hugetlb=0"), "0");  // the last one
-  EXPECT_EQ(read("glibc.malloc.arena_max=2"), "");
-  EXPECT_EQ(read("xglibc.malloc.hugetlb=1"), "");  // another name that ends the same
-  EXPECT_EQ(read("glibc.malloc.arena_max=2"), "");
-  EXPECT_EQ(gradmpm::malloc_tunable("arena_max"), "2");  // any tunable of malloc's
-  const auto keeps = [](const char* tunables) {
-    ::setenv("GLIBC_TUNABLES", tunables, 1);
-    return gradmpm::malloc_keeps_freed_memory();
-  };
-  EXPECT_TRUE(keeps("glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1099511627776"));
-  EXPECT_FALSE(keeps("glibc.malloc.mmap_max=0"));  // the top of the heap would still be trimmed
-  EXPECT_FALSE(keeps("glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1:glibc.malloc.mmap_max=8"));
-  ::unsetenv("GLIBC_TUNABLES");
-  EXPECT_EQ(gradmpm::malloc_hugetlb(), "");
-  EXPECT_FALSE(gradmpm::malloc_keeps_freed_memory());
-  if (saved) ::setenv("GLIBC_TUNABLES", keep.c_str(), 1);
 }

@@ -23,7 +23,7 @@
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/app/PointColumns.hpp"
 #include "gradmpm/core/Errors.hpp"
-#include "gradmpm/core/LoadTimeEnvironment.hpp"
+#include "gradmpm/core/PlatformHooks.hpp"
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/io/EmbeddedScripts.hpp"
@@ -241,18 +241,15 @@ class MpmRun {
                                      : "its options from linear_solver.options");
     }
     if (quiet_) return;
-    const std::string hugetlb = malloc_hugetlb();
-    fmt::print(
-        "gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}), "
-        "{}, {}{}\n",
-        dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis), c_.newton.load_steps,
-        ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(), omp_get_max_threads(),
-        std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
-                                       : std::string("waiting by default"),
-        hugetlb.empty() || hugetlb == "0" ? std::string("no huge pages")
-                                          : fmt::format("huge pages (glibc.malloc.hugetlb={})", hugetlb),
-        malloc_keeps_freed_memory() ? "freed memory kept (glibc.malloc.mmap_max=0)" : "freed memory returned",
-        partition);
+    const char* tuning = platform_hooks().summary;
+    fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}){}{}\n",
+               dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis),
+               c_.newton.load_steps,
+               ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(),
+               omp_get_max_threads(),
+               std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
+                                              : std::string("waiting by default"),
+               tuning ? fmt::format(", {}", tuning) : std::string(), partition);
   }
 
   /// The checkpoint's points, driver state and outputs so far; returns where the driver starts.

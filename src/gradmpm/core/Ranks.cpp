@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -13,26 +14,22 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#ifdef GRADMPM_WITH_PETSC  // PETSc brings MPI: the distributed run needs both
-#include <mpi.h>
-#endif
+#include "gradmpm/core/Plugins.hpp"
 
 namespace gradmpm::ranks {
 
 namespace {
 struct State {
-  bool started = false;
+  std::unique_ptr<Backend> backend;  ///< MPI's collectives in a distributed run
   int size = 1, rank = 0, on_this_machine = 1;
   std::vector<std::function<void()>> hooks;
-#ifdef GRADMPM_WITH_PETSC
-  MPI_Comm exchange_comm = MPI_COMM_NULL;  ///< the sparse exchanges' messages, apart from any other
-  long long rounds = 0;                    ///< neighbours_of calls so far (the same on every rank)
-#endif
 };
 State& state() {
   static State s;
   return s;
 }
+/// The backend when there are several ranks (else the collectives are identities).
+Backend* mpi() { return state().size > 1 ? state().backend.get() : nullptr; }
 }  // namespace
 
 int size() { return state().size; }
@@ -44,7 +41,7 @@ long long Neighbours::received() const {
 int rank() { return state().rank; }
 int on_this_machine() { return state().on_this_machine; }
 void before_stop(std::function<void()> hook) {
-  if (state().started) state().hooks.push_back(std::move(hook));
+  if (state().backend) state().hooks.push_back(std::move(hook));
 }
 
 namespace {
@@ -63,268 +60,41 @@ std::string write_whole(const std::string& file, const std::string& bytes) {
 }
 }  // namespace
 
-#ifdef GRADMPM_WITH_PETSC
-
 Session::Session(int* argc, char*** argv) {
-  int provided = 0;
-  // The point loops run on OpenMP threads; only the main thread calls MPI.
-  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  const auto start = plugin_function<StartBackend>("petsc", "gradmpm_start_mpi", "a run on several MPI ranks");
   State& s = state();
-  s.started = true;
-  MPI_Comm_size(MPI_COMM_WORLD, &s.size);
-  MPI_Comm_rank(MPI_COMM_WORLD, &s.rank);
-  MPI_Comm machine;
-  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, s.rank, MPI_INFO_NULL, &machine);
-  MPI_Comm_size(machine, &s.on_this_machine);
-  MPI_Comm_free(&machine);
-  MPI_Comm_dup(MPI_COMM_WORLD, &s.exchange_comm);
+  s.backend.reset(start(argc, argv));
+  s.size = s.backend->size();
+  s.rank = s.backend->rank();
+  s.on_this_machine = s.backend->on_this_machine();
 }
 
 Session::~Session() {
   State& s = state();
   for (auto it = s.hooks.rbegin(); it != s.hooks.rend(); ++it) (*it)();
   s.hooks.clear();
-  MPI_Comm_free(&s.exchange_comm);
-  MPI_Finalize();
+  s.backend.reset();  // MPI_Finalize
   s = State{};
 }
 
+// Serially every collective is the identity; with several ranks, MPI's (the backend's).
 void sum(double* v, std::size_t n) {
-  if (size() == 1 || n == 0) return;
-  // Reduce, then broadcast: MPI_Allreduce may add in a different order on different ranks.
-  constexpr std::size_t chunk = std::size_t(1) << 26;  // MPI counts are int
-  for (std::size_t at = 0; at < n; at += chunk) {
-    const int count = static_cast<int>(std::min(chunk, n - at));
-    if (rank() == 0)
-      MPI_Reduce(MPI_IN_PLACE, v + at, count, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-    else
-      MPI_Reduce(v + at, nullptr, count, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-    MPI_Bcast(v + at, count, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-  }
+  if (Backend* b = mpi()) b->sum(v, n);
 }
-
-int min(int value) {
-  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  return value;
-}
-
+int min(int value) { return mpi() ? mpi()->min(value) : value; }
 void max(int* v, std::size_t n) {
-  if (size() > 1 && n > 0) MPI_Allreduce(MPI_IN_PLACE, v, static_cast<int>(n), MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (Backend* b = mpi()) b->max(v, n);
 }
-
 void max(double* v, std::size_t n) {
-  if (size() > 1 && n > 0) MPI_Allreduce(MPI_IN_PLACE, v, static_cast<int>(n), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  if (Backend* b = mpi()) b->max(v, n);
 }
-
-std::vector<int> all_gather(const std::vector<int>& mine) {
-  if (size() == 1) return mine;
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(size()), offsets(size(), 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
-  std::vector<int> all(static_cast<std::size_t>(offsets.back()) + counts.back());
-  MPI_Allgatherv(mine.data(), count, MPI_INT, all.data(), counts.data(), offsets.data(), MPI_INT, MPI_COMM_WORLD);
-  return all;
-}
-
+std::vector<int> all_gather(const std::vector<int>& mine) { return mpi() ? mpi()->all_gather(mine) : mine; }
 void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
-  std::vector<int> offsets(counts.size(), 0);
-  std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
-  if (size() == 1) {
-    std::copy(mine, mine + counts[0], all);
-    return;
-  }
-  MPI_Allgatherv(mine, counts[rank()], MPI_DOUBLE, all, counts.data(), offsets.data(), MPI_DOUBLE, MPI_COMM_WORLD);
-}
-
-Neighbours neighbours_of(const std::vector<long long>& send_counts) {
-  Neighbours n;
-  const int me = rank();
-  for (int r = 0; r < static_cast<int>(send_counts.size()); ++r)
-    if (send_counts[r] > 0) {
-      n.to.push_back(r);
-      n.to_count.push_back(send_counts[r]);
-    }
-  if (size() == 1) {
-    n.from = n.to;
-    n.from_count = n.to_count;
-    return n;
-  }
-  // Synchronous sends: one completes when its message was received, so a rank whose sends
-  // all completed enters the barrier; when every rank has, no message is on its way.
-  MPI_Comm comm = state().exchange_comm;
-  // A rank that saw this round's barrier complete may start the next round and send to a
-  // rank that is still probing in this one: consecutive rounds use different tags (a
-  // round after the next cannot start before this one has ended everywhere).
-  const int tag = 1 + 2 * (state().rounds++ % 2);  // 1, 3, 1, ... (the data's tag is 2)
-  std::vector<MPI_Request> sends;
-  for (std::size_t k = 0; k < n.to.size(); ++k)
-    if (n.to[k] != me) {
-      sends.emplace_back();
-      MPI_Issend(&n.to_count[k], 1, MPI_LONG_LONG, n.to[k], tag, comm, &sends.back());
-    }
-  std::vector<std::pair<int, long long>> got;
-  if (send_counts.size() > static_cast<std::size_t>(me) && send_counts[me] > 0) got.emplace_back(me, send_counts[me]);
-  MPI_Request barrier = MPI_REQUEST_NULL;
-  bool in_barrier = false;
-  for (;;) {
-    int arrived = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, tag, comm, &arrived, &status);
-    if (arrived) {
-      long long count = 0;
-      MPI_Recv(&count, 1, MPI_LONG_LONG, status.MPI_SOURCE, tag, comm, MPI_STATUS_IGNORE);
-      got.emplace_back(status.MPI_SOURCE, count);
-    }
-    int done = 0;
-    if (!in_barrier) {
-      MPI_Testall(static_cast<int>(sends.size()), sends.data(), &done, MPI_STATUSES_IGNORE);
-      if (done) {
-        MPI_Ibarrier(comm, &barrier);
-        in_barrier = true;
-      }
-    } else {
-      MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
-      if (done) break;
-    }
-  }
-  std::sort(got.begin(), got.end());
-  for (const auto& [r, count] : got) {
-    n.from.push_back(r);
-    n.from_count.push_back(count);
-  }
-  return n;
-}
-
-std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes) {
-  if (size() == 1) return std::vector<char>(send, send + static_cast<std::size_t>(n.received()) * item_bytes);
-  std::vector<char> received(static_cast<std::size_t>(n.received()) * item_bytes);
-  const int me = rank();
-  auto bytes = [&](long long items) {
-    const long long b = items * static_cast<long long>(item_bytes);
-    if (b > INT32_MAX) throw std::length_error("ranks::exchange: more than 2 GiB to one rank");
-    return static_cast<int>(b);
-  };
-  MPI_Comm comm = state().exchange_comm;
-  constexpr int tag = 2;
-  std::vector<MPI_Request> requests;
-  const char* own = nullptr;
-  char* own_to = nullptr;
-  long long own_items = 0;
-  std::size_t at = 0;
-  for (std::size_t k = 0; k < n.from.size(); ++k) {
-    if (n.from[k] == me) {
-      own_to = received.data() + at;
-    } else {
-      requests.emplace_back();
-      MPI_Irecv(received.data() + at, bytes(n.from_count[k]), MPI_BYTE, n.from[k], tag, comm, &requests.back());
-    }
-    at += static_cast<std::size_t>(n.from_count[k]) * item_bytes;
-  }
-  at = 0;
-  for (std::size_t k = 0; k < n.to.size(); ++k) {
-    if (n.to[k] == me) {
-      own = send + at;
-      own_items = n.to_count[k];
-    } else {
-      requests.emplace_back();
-      MPI_Isend(send + at, bytes(n.to_count[k]), MPI_BYTE, n.to[k], tag, comm, &requests.back());
-    }
-    at += static_cast<std::size_t>(n.to_count[k]) * item_bytes;
-  }
-  if (own) std::memcpy(own_to, own, static_cast<std::size_t>(own_items) * item_bytes);
-  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-  return received;
-}
-
-std::vector<std::string> gather_on_root(const std::string& mine) {
-  if (size() == 1) return {mine};
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(rank() == 0 ? size() : 0), offsets(counts.size(), 0);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (rank() == 0) std::partial_sum(counts.begin(), counts.end() - 1, offsets.begin() + 1);
-  std::string all(rank() == 0 ? static_cast<std::size_t>(offsets.back()) + counts.back() : 0, '\0');
-  MPI_Gatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
-  std::vector<std::string> out;
-  for (std::size_t r = 0; r < counts.size(); ++r) out.push_back(all.substr(offsets[r], counts[r]));
-  return out;
-}
-
-std::vector<char> broadcast(std::vector<char> bytes) {
-  if (size() == 1) return bytes;
-  long long n = static_cast<long long>(bytes.size());
-  MPI_Bcast(&n, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
-  bytes.resize(static_cast<std::size_t>(n));
-  MPI_Bcast(bytes.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
-  return bytes;
-}
-
-void abort(int code) {
-  if (state().started) MPI_Abort(MPI_COMM_WORLD, code);
-  std::exit(code);
-}
-
-std::string write_in_rank_order(const std::string& file, const std::string& bytes) {
-  if (size() == 1) return write_whole(file, bytes);
-  long long n = static_cast<long long>(bytes.size()), offset = 0, total = 0;
-  MPI_Exscan(&n, &offset, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
-  if (rank() == 0) offset = 0;  // (MPI_Exscan leaves rank 0's undefined)
-  MPI_Allreduce(&n, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
-  auto problem = [&](const char* what, int code) {
-    char text[MPI_MAX_ERROR_STRING];
-    int length = 0;
-    MPI_Error_string(code, text, &length);
-    return file + ": " + what + " (" + std::string(text, length) + ")";
-  };
-  MPI_File fh;
-  // Collective: every rank opens, or none (MPI-IO agrees on the outcome).
-  int code = MPI_File_open(MPI_COMM_WORLD, file.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
-  if (code != MPI_SUCCESS) return problem("cannot open for writing", code);
-  std::string result;
-  code = MPI_File_set_size(fh, total);  // (collective) a file that was there is cut to this size
-  if (code != MPI_SUCCESS) result = problem("cannot set its size", code);
-  constexpr long long chunk = 1LL << 30;  // MPI counts are int
-  for (long long at = 0; result.empty() && at < n; at += chunk) {
-    const int count = static_cast<int>(std::min(chunk, n - at));
-    MPI_Status status;
-    code = MPI_File_write_at(fh, offset + at, bytes.data() + at, count, MPI_BYTE, &status);
-    int written = 0;
-    if (code == MPI_SUCCESS) MPI_Get_count(&status, MPI_BYTE, &written);
-    if (code != MPI_SUCCESS || written != count) result = problem("cannot write", code);
-  }
-  code = MPI_File_sync(fh);  // (collective)
-  if (code != MPI_SUCCESS && result.empty()) result = problem("cannot flush to disk", code);
-  MPI_File_close(&fh);
-  return result;
-}
-
-std::string first_problem(const std::string& problem) {
-  if (size() == 1) return problem;
-  int none = problem.empty() ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &none, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  if (none == 1) return "";
-  std::string first;
-  for (const std::string& p : gather_on_root(problem))
-    if (first.empty() && !p.empty()) first = p;
-  const std::vector<char> told = broadcast(std::vector<char>(first.begin(), first.end()));
-  return std::string(told.begin(), told.end());
-}
-
-#else  // one rank: every collective is the identity
-
-Session::Session(int*, char***) {}
-Session::~Session() {
-  for (auto& hook : state().hooks) hook();
-}
-void sum(double*, std::size_t) {}
-int min(int value) { return value; }
-void max(int*, std::size_t) {}
-void max(double*, std::size_t) {}
-std::vector<int> all_gather(const std::vector<int>& mine) { return mine; }
-void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) {
+  if (Backend* b = mpi()) return b->all_gather_rows(mine, counts, all);
   std::copy(mine, mine + counts[0], all);
 }
 Neighbours neighbours_of(const std::vector<long long>& send_counts) {
+  if (Backend* b = mpi()) return b->neighbours_of(send_counts);
   Neighbours n;
   if (!send_counts.empty() && send_counts[0] > 0) {
     n.to = n.from = {0};
@@ -333,14 +103,29 @@ Neighbours neighbours_of(const std::vector<long long>& send_counts) {
   return n;
 }
 std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes) {
+  if (Backend* b = mpi()) return b->exchange(n, send, item_bytes);
   return std::vector<char>(send, send + static_cast<std::size_t>(n.received()) * item_bytes);
 }
-std::vector<std::string> gather_on_root(const std::string& mine) { return {mine}; }
-std::vector<char> broadcast(std::vector<char> bytes) { return bytes; }
-void abort(int code) { std::exit(code); }
-std::string write_in_rank_order(const std::string& file, const std::string& bytes) { return write_whole(file, bytes); }
-std::string first_problem(const std::string& problem) { return problem; }
+std::vector<std::string> gather_on_root(const std::string& mine) {
+  return mpi() ? mpi()->gather_on_root(mine) : std::vector<std::string>{mine};
+}
+std::vector<char> broadcast(std::vector<char> bytes) { return mpi() ? mpi()->broadcast(std::move(bytes)) : bytes; }
+void abort(int code) {
+  if (state().backend) state().backend->abort(code);
+  std::exit(code);
+}
+std::string write_in_rank_order(const std::string& file, const std::string& bytes) {
+  return mpi() ? mpi()->write_in_rank_order(file, bytes) : write_whole(file, bytes);
+}
 
-#endif
+std::string first_problem(const std::string& problem) {
+  if (size() == 1) return problem;
+  if (min(problem.empty() ? 1 : 0) == 1) return "";
+  std::string first;
+  for (const std::string& p : gather_on_root(problem))
+    if (first.empty() && !p.empty()) first = p;
+  const std::vector<char> told = broadcast(std::vector<char>(first.begin(), first.end()));
+  return std::string(told.begin(), told.end());
+}
 
 }  // namespace gradmpm::ranks

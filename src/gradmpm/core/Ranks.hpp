@@ -33,7 +33,8 @@ inline bool distributed() { return size() > 1; }
 int on_this_machine();
 
 /// MPI started for the life of main when this process was launched as one of several
-/// ranks (app/MpiLaunch.hpp); stopped, after the hooks of before_stop(), by the destructor.
+/// ranks (app/MpiLaunch.hpp), from the plugin libgradmpm_petsc.so (core/Plugins.hpp);
+/// stopped, after the hooks of before_stop(), by the destructor.
 class Session {
  public:
   Session(int* argc, char*** argv);
@@ -163,5 +164,32 @@ void stop_if_any(const std::string& problem) {
   const std::string first = first_problem(problem);
   if (!first.empty()) throw UserError(first);
 }
+
+/// The collectives of a distributed run: MPI's, from the plugin (parallel/MpiRanks.cpp),
+/// installed by Session. The functions above call it only when there are several ranks;
+/// with one they are the identities. Deleting it stops MPI.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual int size() const = 0;
+  virtual int rank() const = 0;
+  virtual int on_this_machine() const = 0;
+  virtual void sum(double* v, std::size_t n) = 0;
+  virtual int min(int value) = 0;
+  virtual void max(int* v, std::size_t n) = 0;
+  virtual void max(double* v, std::size_t n) = 0;
+  virtual std::vector<int> all_gather(const std::vector<int>& mine) = 0;
+  virtual void all_gather_rows(const double* mine, const std::vector<int>& counts, double* all) = 0;
+  virtual Neighbours neighbours_of(const std::vector<long long>& send_counts) = 0;
+  virtual std::vector<char> exchange(const Neighbours& n, const char* send, std::size_t item_bytes) = 0;
+  virtual std::vector<std::string> gather_on_root(const std::string& mine) = 0;
+  virtual std::vector<char> broadcast(std::vector<char> bytes) = 0;
+  [[noreturn]] virtual void abort(int code) = 0;
+  virtual std::string write_in_rank_order(const std::string& file, const std::string& bytes) = 0;
+};
+
+/// The plugin's entry point (extern "C" gradmpm_start_mpi): starts MPI with the
+/// command line and returns its backend.
+using StartBackend = Backend* (*)(int* argc, char*** argv);
 
 }  // namespace gradmpm::ranks

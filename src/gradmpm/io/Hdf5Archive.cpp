@@ -1,3 +1,4 @@
+// io/Hdf5Archive.hpp's files, in the plugin libgradmpm_hdf5.so (core/Plugins.hpp).
 #include "gradmpm/io/Hdf5Archive.hpp"
 
 #include <fmt/format.h>
@@ -78,9 +79,7 @@ std::vector<T> read_dataset(hid_t file, const std::string& name, H5T_class_t cls
   return v;
 }
 
-}  // namespace
-
-void write_hdf5_archive(const std::filesystem::path& path, const Archive& a) {
+void write_archive(const std::filesystem::path& path, const Archive& a) {
   quiet_hdf5();
   std::string index;
   {
@@ -109,7 +108,7 @@ void write_hdf5_archive(const std::filesystem::path& path, const Archive& a) {
   }
 }
 
-Archive read_hdf5_archive(const std::filesystem::path& path) {
+Archive read_archive(const std::filesystem::path& path) {
   quiet_hdf5();
   // A FIFO or a device would block the open or never end: only regular files are read.
   std::error_code ec;
@@ -140,4 +139,12 @@ Archive read_hdf5_archive(const std::filesystem::path& path) {
   return a;
 }
 
+}  // namespace
+
 }  // namespace gradmpm
+
+/// The plugin's entry point (io/Hdf5Plugin.cpp reads it).
+extern "C" const gradmpm::Hdf5ArchiveFiles* gradmpm_hdf5_archive_files() {
+  static const gradmpm::Hdf5ArchiveFiles files{gradmpm::write_archive, gradmpm::read_archive};
+  return &files;
+}

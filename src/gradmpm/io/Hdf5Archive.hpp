@@ -5,6 +5,8 @@
 // checkpoint as it is. Every dataset carries HDF5's Fletcher-32 checksum and the file
 // uses the latest format (checksummed metadata): a damaged or truncated file is refused
 // on reading, never read as wrong numbers. The dataset "index" lists the arrays.
+// HDF5 itself is in the plugin libgradmpm_hdf5.so (io/Hdf5Archive.cpp), loaded the first
+// time a checkpoint is written or read (core/Plugins.hpp).
 #include <filesystem>
 
 #include "gradmpm/io/Archive.hpp"
@@ -17,5 +19,11 @@ void write_hdf5_archive(const std::filesystem::path& file, const Archive& a);
 
 /// Reads every array of `file`; throws InputError (not HDF5, damaged, checksum mismatch).
 Archive read_hdf5_archive(const std::filesystem::path& file);
+
+/// The plugin's two functions (its entry point gradmpm_hdf5_archive_files returns them).
+struct Hdf5ArchiveFiles {
+  void (*write)(const std::filesystem::path& file, const Archive& a);
+  Archive (*read)(const std::filesystem::path& file);
+};
 
 }  // namespace gradmpm

@@ -13,14 +13,13 @@
 // its transposes (Eigen's settings: supernodal, the factor kept as computed).
 #include <amd.h>
 #include <cholmod.h>
-#include <dlfcn.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <numeric>
 
 #include "gradmpm/solver/linear/EigenSolver.hpp"
-#include "gradmpm/solver/linear/SerialOpenMpRegions.hpp"
+#include "gradmpm/core/PlatformHooks.hpp"
 
 namespace gradmpm {
 
@@ -32,30 +31,20 @@ namespace {
 /// machine has, while the BLAS under it (libblas.so.3 from the system's alternatives:
 /// OpenBLAS once scripts/install-deps has run) does the dense work of the supernodes.
 ///
-/// With OpenBLAS (found at run time: the reference BLAS has no openblas_set_num_threads)
-/// the BLAS gets the caller's thread count (--threads, OMP_NUM_THREADS) and CHOLMOD's own
-/// parallel regions run serially (max-active-levels 0): its team and OpenBLAS's pthread
-/// pool together oversubscribed the 2 cores. Measured at 2 threads, per factorisation
-/// (docs/performance.md): 1e5-dof 2D 0.56-0.93 s -> 0.23-0.32 s, 1e6-dof 2D 12.6 -> 4.7 s;
-/// one BLAS thread under CHOLMOD's team instead gave 0.26-0.31 s at 1e5 dof.
-/// (OpenBLAS's OpenMP build would share gradmpm's team, but it hung in dsyrk when the
-/// runtime gave its regions fewer threads than planned: not used.)
-/// With the reference BLAS, CHOLMOD's team is what runs in parallel: dynamic adjustment
-/// caps it at the caller's thread setting and the idle processors (1e5-dof 2D: 1.13 ->
-/// 0.75 s against the fixed 4).
-/// Either way, the regions that run serially run as plain calls (SerialOpenMpRegions:
-/// libgomp spends a system call on each, about 69 000 per factorisation at 1e5 dof in 2D).
-bool set_blas_threads(int n) {
-  using SetThreads = void (*)(int);
-  static const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (set) set(n);
-  return set != nullptr;
-}
-
+/// With the process tuning's BLAS part (tuning/ProcessTuning.hpp: OpenBLAS found at run
+/// time) the BLAS gets the caller's thread count (--threads, OMP_NUM_THREADS) and
+/// CHOLMOD's own parallel regions run serially (max-active-levels 0): its team and
+/// OpenBLAS's pthread pool together oversubscribed the cores (docs/performance.md).
+/// Without it (a program without the tuning, --no-tuning, the reference BLAS) CHOLMOD's
+/// team is what runs in parallel, capped by dynamic adjustment at the caller's thread
+/// setting and the idle processors. Either way, the regions that run serially run as plain
+/// calls where the tuning offers it (libgomp spends a system call on each, about 69 000 per
+/// factorisation at 1e5 dof in 2D).
 class CholmodThreadCap {
  public:
   CholmodThreadCap() : dynamic_(omp_get_dynamic()), levels_(omp_get_max_active_levels()) {
-    if (set_blas_threads(omp_get_max_threads()))
+    const auto set_blas_threads = platform_hooks().set_blas_threads;
+    if (set_blas_threads && set_blas_threads(omp_get_max_threads()))
       omp_set_max_active_levels(0);
     else
       omp_set_dynamic(1);
@@ -69,7 +58,7 @@ class CholmodThreadCap {
 
  private:
   int dynamic_, levels_;
-  SerialOpenMpRegions serial_regions_;
+  SerialRegionsScope serial_regions_;
 };
 
 /// cholmod_sparse views of A's upper triangle (CHOLMOD reads, never writes, through it).

@@ -7,6 +7,7 @@
 // The Newton driver sets each solve's relative tolerance (inexact Newton); other solves
 // use 1e-12. Each solver's options get a prefix of its own in PETSc's database, so that
 // the objects inside the preconditioner see them and two solvers never see each other's.
+// Built into the plugin libgradmpm_petsc.so (core/Plugins.hpp), loaded on first use.
 #include <fmt/format.h>
 #include <petscksp.h>
 
@@ -554,15 +555,17 @@ std::string check_petsc_options(const LinearSolverSettings& s) {
   return "";
 }
 
-LinearSolverInfo petsc_solver_info() {
-  LinearSolverInfo info{
-      "petsc",
-      "PETSc KSP (default: CG with GAMG and the rigid-body modes; MUMPS LU for general matrices); "
-      "linear_solver.options go to PETSc's options database",
-      true, [](const LinearSolverSettings& s, MatrixKind kind) { return std::make_unique<Petsc>(s, kind); }};
-  info.takes_options = true;
-  info.check_options = check_petsc_options;
-  return info;
-}
-
 }  // namespace gradmpm
+
+/// The plugin's entry point (solver/linear/PetscPlugin.cpp reads it): how to make the
+/// solver and check its options; its name and doc are the library's.
+extern "C" const gradmpm::LinearSolverInfo* gradmpm_petsc_solver() {
+  static const gradmpm::LinearSolverInfo info{
+      .name = "petsc",
+      .general = true,
+      .make = [](const gradmpm::LinearSolverSettings& s, gradmpm::MatrixKind kind)
+          -> std::unique_ptr<gradmpm::LinearSolver> { return std::make_unique<gradmpm::Petsc>(s, kind); },
+      .takes_options = true,
+      .check_options = gradmpm::check_petsc_options};
+  return &info;
+}

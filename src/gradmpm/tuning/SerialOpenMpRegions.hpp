@@ -12,7 +12,7 @@
 //
 // How: this object file defines GOMP_parallel, the entry point GCC compiles `#pragma omp
 // parallel` into. An executable's definition takes precedence over libgomp's, for
-// libcholmod's calls as for gradmpm's own. While a SerialOpenMpRegions is alive on a
+// libcholmod's calls as for gradmpm's own. While a scope (enter() .. leave()) is open on a
 // thread, a region that thread opens outside any other region (omp_get_level() == 0) and
 // that would get one thread (its `if` clause false or num_threads(1), or
 // max-active-levels 0) calls the region's body directly: outside any region,
@@ -20,15 +20,15 @@
 // worksharing constructs and barriers without a team are the orphaned ones OpenMP allows.
 // Every other region, and every region of a thread without the scope, goes to libgomp's
 // GOMP_parallel unchanged.
+//
+// Part `regions` of the process tuning (tuning/ProcessTuning.hpp): only executables link
+// it, and the library opens its scopes through core/PlatformHooks.hpp.
 namespace gradmpm {
 
-class SerialOpenMpRegions {
- public:
-  SerialOpenMpRegions();
-  ~SerialOpenMpRegions();
-  SerialOpenMpRegions(const SerialOpenMpRegions&) = delete;
-  SerialOpenMpRegions& operator=(const SerialOpenMpRegions&) = delete;
-
+struct SerialOpenMpRegions {
+  /// Opens and closes a scope on the calling thread (scopes nest).
+  static void enter();
+  static void leave();
   /// Regions run as plain calls since the program started (every thread).
   static long plain_calls();
 };

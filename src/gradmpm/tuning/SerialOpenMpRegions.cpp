@@ -1,5 +1,5 @@
 // GOMP_parallel for the regions of a SerialOpenMpRegions scope (see the header for why).
-#include "gradmpm/solver/linear/SerialOpenMpRegions.hpp"
+#include "gradmpm/tuning/SerialOpenMpRegions.hpp"
 
 #include <dlfcn.h>
 #include <omp.h>
@@ -34,8 +34,8 @@ GompParallel libgomp_parallel() {
 
 namespace gradmpm {
 
-SerialOpenMpRegions::SerialOpenMpRegions() { ++scopes; }
-SerialOpenMpRegions::~SerialOpenMpRegions() { --scopes; }
+void SerialOpenMpRegions::enter() { ++scopes; }
+void SerialOpenMpRegions::leave() { --scopes; }
 long SerialOpenMpRegions::plain_calls() { return plain_calls_made.load(std::memory_order_relaxed); }
 
 }  // namespace gradmpm

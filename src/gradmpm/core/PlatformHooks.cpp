@@ -1,0 +1,10 @@
+#include "gradmpm/core/PlatformHooks.hpp"
+
+namespace gradmpm {
+
+PlatformHooks& platform_hooks() {
+  static PlatformHooks hooks;
+  return hooks;
+}
+
+}  // namespace gradmpm
