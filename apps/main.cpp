@@ -35,8 +35,8 @@ int main(int argc, char** argv) {
   app.fallthrough();  // --no-tuning after the subcommand too
   bool no_tuning = false;  // acted on before main (tuning/ProcessTuning.hpp); taken here so it parses
   app.add_flag("--no-tuning", no_tuning,
-               "leave the runtimes as their defaults and the environment say: no passive OpenMP waiting, no "
-               "serial regions as calls, no BLAS threads set (as GRADMPM_TUNING=0; docs/performance.md)");
+               "leave the runtimes as their defaults and the environment say: no passive OpenMP waiting, freed "
+               "memory returned, no serial regions as calls, no BLAS threads set (as GRADMPM_TUNING=0; docs/performance.md)");
 
   // An empty path is a mistake (a shell variable that was not set), never "the default".
   const CLI::Validator non_empty(

@@ -7,14 +7,18 @@
 //  T3 the answer does not depend on the tuning (points_final.csv byte for byte);
 //  T4 CHOLMOD's serial OpenMP regions are plain calls, and only those;
 //  T5 the BLAS (OpenBLAS) runs on the caller's threads under CHOLMOD;
-//  T6 libgomp's idle threads wait passively: they burn no CPU between regions (the run's
-//     first line saying so, and a user's OMP_WAIT_POLICY kept: test_threads.cpp).
+//  T7 freed memory stays in the process: a large block comes from the heap, not a mapping
+//     of its own, and the heap keeps it when it is freed (a user's malloc settings kept);
+//  T6 libgomp's idle threads wait passively: they burn no CPU between regions; a user's
+//     OMP_WAIT_POLICY and malloc settings are kept (the first line says so).
 #include <dlfcn.h>
+#include <malloc.h>
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <pthread.h>
 #include <time.h>
 
+#include <cstdlib>
 #include <stdexcept>
 #include <thread>
 
@@ -34,13 +38,14 @@ TEST(Tuning, GradmpmTuningIsReadAsDocumented) {
   for (const char* none : {"0", "off", "none"}) EXPECT_EQ(parse(none), tuning::Parts{}) << none;
   EXPECT_EQ(parse("blas"), (tuning::Parts{.blas = true}));
   EXPECT_EQ(parse("wait,regions"), (tuning::Parts{.wait = true, .regions = true}));
-  EXPECT_THROW(parse("wait,"), std::invalid_argument);
+  EXPECT_EQ(parse("memory"), (tuning::Parts{.memory = true}));
+  EXPECT_THROW(parse("blas,"), std::invalid_argument);
   try {
     parse("hugepages");
     ADD_FAILURE() << "an unknown part was taken";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'hugepages'"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("wait, regions and blas"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("wait, memory, regions and blas"), std::string::npos) << e.what();
   }
 }
 
@@ -77,6 +82,20 @@ TEST(Tuning, OpenMpsIdleThreadsWaitPassively) {
   const double cpu = double(end.tv_sec - start.tv_sec) + 1e-9 * double(end.tv_nsec - start.tv_nsec);
   EXPECT_EQ(sum, 200 * 499500.0);
   EXPECT_LT(cpu, 0.05) << "CPU seconds of the second thread: it spun while idle";
+}
+
+TEST(Tuning, FreedMemoryStaysInTheProcess) {
+  if (std::getenv("GRADMPM_TUNING") || std::getenv("MALLOC_MMAP_MAX_") || std::getenv("MALLOC_TRIM_THRESHOLD_") ||
+      std::getenv("GLIBC_TUNABLES"))
+    GTEST_SKIP() << "malloc or the tuning is set for this test run";
+  constexpr std::size_t kBlock = std::size_t(64) << 20;  // above glibc's largest mmap threshold (32 MiB)
+  const std::size_t mapped = mallinfo2().hblkhd;
+  auto* block = static_cast<volatile char*>(std::malloc(kBlock));
+  ASSERT_NE(block, nullptr);
+  block[kBlock - 1] = 1;
+  EXPECT_EQ(mallinfo2().hblkhd, mapped) << "the block got a mapping of its own";
+  std::free(const_cast<char*>(block));
+  EXPECT_GE(mallinfo2().arena, kBlock) << "the heap was trimmed";
 }
 
 TEST(Tuning, TheBlasRunsOnTheCallersThreadsUnderCholmod) {
@@ -183,12 +202,13 @@ class TuningCli : public ScratchDirTest {
 }  // namespace
 
 TEST_F(TuningCli, TheFirstLineSaysWhatIsOnAndEachSwitchTurnsItOff) {
-  const std::string plain = "env -u OMP_WAIT_POLICY -u GRADMPM_TUNING";
+  const std::string plain =
+      "env -u GRADMPM_TUNING -u OMP_WAIT_POLICY -u GLIBC_TUNABLES -u MALLOC_TRIM_THRESHOLD_ -u MALLOC_MMAP_MAX_";
   const auto first_line = [&](const CliResult& r) { return r.out.substr(0, r.out.find('\n')); };
   CliResult r = run("on", plain);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(first_line(r).find("(OpenMP waiting passive), tuning: OpenMP waiting passive, CHOLMOD's serial regions "
-                               "as calls, BLAS threads set under CHOLMOD"),
+  EXPECT_NE(first_line(r).find("(OpenMP waiting passive), tuning: OpenMP waiting passive, freed memory kept, "
+                               "CHOLMOD's serial regions as calls, BLAS threads set under CHOLMOD"),
             std::string::npos)
       << r.out;
   r = run("off", plain, " --no-tuning");
@@ -203,18 +223,19 @@ TEST_F(TuningCli, TheFirstLineSaysWhatIsOnAndEachSwitchTurnsItOff) {
   EXPECT_NE(first_line(r).find("(OpenMP waiting by default), tuning: BLAS threads set under CHOLMOD"),
             std::string::npos)
       << r.out;
-  r = run("user", "env -u GRADMPM_TUNING OMP_WAIT_POLICY=active");
+  r = run("user", plain + " OMP_WAIT_POLICY=active MALLOC_TRIM_THRESHOLD_=131072");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(first_line(r).find("(OpenMP waiting active), tuning: OpenMP waiting as OMP_WAIT_POLICY says"),
+  EXPECT_NE(first_line(r).find("(OpenMP waiting active), tuning: OpenMP waiting as OMP_WAIT_POLICY says, malloc as "
+                               "the user's settings say, CHOLMOD's"),
             std::string::npos)
       << r.out;
 }
 
 TEST_F(TuningCli, AnUnknownPartIsRefused) {
-  const CliResult r = run("bad", "GRADMPM_TUNING=wait,turbo");
+  const CliResult r = run("bad", "GRADMPM_TUNING=blas,turbo");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("GRADMPM_TUNING=wait,turbo: expected 1 (every part), 0 (none) or a comma-separated list of "
-                       "wait, regions and blas, not the part 'turbo'"),
+  EXPECT_NE(r.err.find("GRADMPM_TUNING=blas,turbo: expected 1 (every part), 0 (none) or a comma-separated list of "
+                       "wait, memory, regions and blas, not the part 'turbo'"),
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(dir / "bad" / "points_final.csv"));

@@ -2,6 +2,7 @@
 #include "gradmpm/tuning/ProcessTuning.hpp"
 
 #include <dlfcn.h>
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -18,6 +19,7 @@ namespace {
 
 Parts decided;                  // what parts() answers
 const char* off_by = nullptr;   // "--no-tuning" or "GRADMPM_TUNING=0" when off
+bool user_malloc = false;       // the user set malloc's mmap or trim thresholds
 bool user_wait = false;         // OMP_WAIT_POLICY was the user's
 std::string summary_text;       // the hooks' summary
 
@@ -38,8 +40,8 @@ char* lookup(char** env, const char* name) {
 }
 
 /// Runs from .preinit_array: after the dynamic loader has loaded every library, before
-/// any of their initialisers (libgomp reads OMP_WAIT_POLICY in its own), and before libc's
-/// own, which sets `environ`: the environment is read from `env`.
+/// any of their initialisers (libgomp reads OMP_WAIT_POLICY in its own; any may
+/// allocate), and before libc's own, which sets `environ`: the environment is read from `env`.
 void decide(int argc, char** argv, char** env) {
   user_wait = lookup(env, "OMP_WAIT_POLICY") != nullptr;
   for (int i = 1; i < argc && argv[i]; ++i) {
@@ -55,6 +57,17 @@ void decide(int argc, char** argv, char** env) {
     ::_exit(2);
   }
   if (!off_by && decided == Parts{}) off_by = "GRADMPM_TUNING=0";
+  const char* tunables = lookup(env, "GLIBC_TUNABLES");
+  user_malloc = lookup(env, "MALLOC_MMAP_MAX_") || lookup(env, "MALLOC_TRIM_THRESHOLD_") ||
+                (tunables && (std::strstr(tunables, "glibc.malloc.mmap_max=") ||
+                              std::strstr(tunables, "glibc.malloc.trim_threshold=")));
+  if (decided.memory && !user_malloc) {
+    // Every block from the heap, never a mapping of its own (glibc maps each block above
+    // its mmap threshold afresh and unmaps it when freed), and the heap never trimmed:
+    // what a load step frees serves the next one's arrays without new pages.
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, -1);
+  }
 }
 
 [[gnu::used, gnu::section(".preinit_array")]] void (*const preinit)(int, char**, char**) = decide;
@@ -85,13 +98,15 @@ Parts parse(const std::string& value) {
     const std::string name = value.substr(at, comma - at);
     if (name == "wait")
       p.wait = true;
+    else if (name == "memory")
+      p.memory = true;
     else if (name == "regions")
       p.regions = true;
     else if (name == "blas")
       p.blas = true;
     else
-      throw std::invalid_argument("expected 1 (every part), 0 (none) or a comma-separated list of wait, regions "
-                                  "and blas, not the part '" + name + "'");
+      throw std::invalid_argument("expected 1 (every part), 0 (none) or a comma-separated list of wait, memory, "
+                                  "regions and blas, not the part '" + name + "'");
     at = comma + 1;
   }
   return p;
@@ -104,6 +119,7 @@ std::string summary() {
   std::string s;
   auto add = [&](const char* what) { s += (s.empty() ? "tuning: " : ", ") + std::string(what); };
   if (decided.wait) add(user_wait ? "OpenMP waiting as OMP_WAIT_POLICY says" : "OpenMP waiting passive");
+  if (decided.memory) add(user_malloc ? "malloc as the user's settings say" : "freed memory kept");
   if (decided.regions) add("CHOLMOD's serial regions as calls");
   if (decided.blas) add("BLAS threads set under CHOLMOD");
   return s;
@@ -117,7 +133,7 @@ std::string summary() {
 /// the one it was started with: a variable set before then is lost, one set later comes
 /// too late. So the executable's getenv (which libgomp's call binds to, as any library's
 /// does) answers for it; nothing is set, and child processes see the user's environment.
-/// Written out rather than forwarded: it runs before any library is initialised.
+/// Written out rather than forwarded: it may run before any library is initialised.
 extern "C" char* getenv(const char* name) {
   if (char* value = gradmpm::tuning::lookup(environ, name)) return value;
   if (gradmpm::tuning::parts().wait && std::strcmp(name, "OMP_WAIT_POLICY") == 0) return const_cast<char*>("passive");
