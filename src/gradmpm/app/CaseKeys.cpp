@@ -277,9 +277,8 @@ const KeySpec* mpm_key_spec(const CaseFile& cf, const std::string& key) {
     if (name_end == std::string::npos) return nullptr;
     const std::string prefix = head + "." + rest.substr(0, name_end);
     const std::string model = cf.has(prefix + ".model") ? cf.string(prefix + ".model") : "";
-    for (const MaterialInfo& law : MaterialRegistry::instance().all())
-      if (law.model == model) return find_key(law.keys, rest.substr(name_end + 1));
-    return nullptr;
+    const MaterialInfo* law = MaterialRegistry::instance().find(model);
+    return law ? find_key(law->keys, rest.substr(name_end + 1)) : nullptr;
   }
   return nullptr;
 }
