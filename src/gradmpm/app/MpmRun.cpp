@@ -242,13 +242,12 @@ class MpmRun {
     }
     if (quiet_) return;
     const char* tuning = platform_hooks().summary;
+    const char* wait = std::getenv("OMP_WAIT_POLICY");
     fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}){}{}\n",
                dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis),
                c_.newton.load_steps,
                ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(),
-               omp_get_max_threads(),
-               std::getenv("OMP_WAIT_POLICY") ? fmt::format("waiting {}", std::getenv("OMP_WAIT_POLICY"))
-                                              : std::string("waiting by default"),
+               omp_get_max_threads(), wait ? fmt::format("waiting {}", wait) : std::string("waiting by default"),
                tuning ? fmt::format(", {}", tuning) : std::string(), partition);
   }
 

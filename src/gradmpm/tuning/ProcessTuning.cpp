@@ -5,10 +5,12 @@
 #include <malloc.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 #include "gradmpm/core/PlatformHooks.hpp"
 #include "gradmpm/tuning/SerialOpenMpRegions.hpp"
