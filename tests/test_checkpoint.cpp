@@ -27,6 +27,7 @@
 //  R8 a checkpoint records the run's threads, and a restart with other threads says that
 //     it follows the uninterrupted run to round-off, not bit for bit (OpenBLAS splits its
 //     sums by threads: tests/test_threads.cpp R2b); one with the same threads says nothing;
+//  R3b the same for a dynamic run and an arc-length run (their own driver state);
 //  R9 a checkpoint that cannot be written (the disk full: a file size limit here) stops
 //     the run with exit 2 and one message, never a crash (HDF5 closed the failed file
 //     again at exit: SIGSEGV), and leaves no part of itself in the checkpoint folder;
@@ -248,6 +249,26 @@ TEST_F(CheckpointCli, TheGradientFieldsCarriedAtThePointsContinueBitForBit) {
     ASSERT_EQ(r.code, 0) << r.err;
     ASSERT_TRUE(fs::exists(dir / "whole" / "points_gradient.csv"));
     EXPECT_EQ(first_difference(dir / "whole", dir / "restarted"), "") << variant;
+  }
+}
+
+TEST_F(CheckpointCli, DynamicAndArcLengthRunsContinueBitForBit) {
+  // A dynamic run (the points' velocity and acceleration, the time, the peak kinetic
+  // energy) and an arc-length run (the arc, its cap, the last increment at the grid
+  // nodes) restarted from a checkpoint publish the uninterrupted run's outputs.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {example("vertical_cut_dynamic_2d.toml") + " --set time.end_time=0.4", "step_000010"},
+      {example("softening_bar_arclength_1d.toml"), "step_000020"}};
+  for (const auto& [what, at] : cases) {
+    const std::string args = "run " + what + " -q --set output.checkpoint_every=10 --set output.checkpoint_keep=0";
+    ASSERT_EQ(run_gradmpm(args + " --out " + (dir / "whole").string()).code, 0) << what;
+    const std::string from = (dir / "whole.checkpoints" / at).string();
+    const CliResult r = run_gradmpm(args + " --out " + (dir / "restarted").string() + " --restart " + from);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(first_difference(dir / "whole", dir / "restarted"), "") << what;
+    fs::remove_all(dir / "whole");
+    fs::remove_all(dir / "whole.checkpoints");
+    fs::remove_all(dir / "restarted");
   }
 }
 

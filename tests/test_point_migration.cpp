@@ -61,6 +61,8 @@ TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
     m.points.work[p] = 0.5 * p;
     m.points.stress[p] = Mat3::Constant(p);
     m.points.force[p] = Vec<2>(p, -p);
+    m.points.velocity[p] = Vec<2>(2 * p, p);
+    m.points.acceleration[p] = Vec<2>(-p, 3 * p);
   }
   const std::vector<int> mine = {1, 4, 5, 10};
   const MaterialPoints<2> expected = m.points.subset(mine);
@@ -76,7 +78,7 @@ TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
         if (std::string(name) == other) EXPECT_TRUE(a == b) << name;
     });
   });
-  EXPECT_EQ(arrays, 13);
+  EXPECT_EQ(arrays, 15);
   EXPECT_EQ(m.points.state, expected.state);
 }
 

@@ -370,6 +370,11 @@ void save_run_state(Archive& a, Archive& points, const Model<dim>& m, const Driv
                     const std::vector<PostStepStage<dim>*>& stages) {
   a.put_real("driver/load_factor", driver.load_factor);
   a.put_real("driver/next_increment", driver.next_increment);
+  a.put_real("driver/time", driver.time);
+  a.put_real("driver/peak_kinetic_energy", driver.peak_kinetic_energy);
+  a.put("driver/arc_previous", driver.arc_previous);
+  a.put_real("driver/arc_nominal", driver.arc_nominal);
+  a.put_real("driver/peak_load_factor", driver.peak_load_factor);
   a.put("driver/summary",
         std::vector<long long>{driver.summary.steps, driver.summary.total_iterations, driver.summary.cuts});
   const CarriedOrdering& o = driver.ordering;
@@ -487,6 +492,11 @@ DriverState restore_run_state(const Restart& r, Model<dim>& m, const std::vector
   DriverState d;
   d.load_factor = a.real("driver/load_factor");
   d.next_increment = a.real("driver/next_increment");
+  d.time = a.real("driver/time");
+  d.peak_kinetic_energy = a.real("driver/peak_kinetic_energy");
+  d.arc_previous = a.reals("driver/arc_previous");
+  d.arc_nominal = a.real("driver/arc_nominal");
+  d.peak_load_factor = a.real("driver/peak_load_factor");
   const auto& s = a.integers("driver/summary", 3);
   d.summary = RunSummary{static_cast<int>(s[0]), static_cast<int>(s[1]), static_cast<int>(s[2])};
   for (const long long node : a.integers("driver/ordering")) {

@@ -498,11 +498,83 @@ void read_point_loads(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m)
   }
 }
 
+/// [time]: a dynamic analysis (none: TimeSettings::dt = 0, quasi-static). Prescribed
+/// displacements need a ramp: without one the loads act in full from t = 0, and a
+/// displacement that jumped to its total in the first step would be no physics.
+template <int dim>
+void read_time(const CaseFile& cf, Model<dim>& m) {
+  if (!cf.has_section("time")) return;
+  const SectionSpec& t = mpm_section("time");
+  cf.require(!cf.has_section("load_steps"), "load_steps",
+             "no [load_steps] in a dynamic case ([time] sets the steps: dt, end_time)");
+  cf.require(!cf.has_section("arc_length"), "arc_length", "no [arc_length] in a dynamic case ([time])");
+  TimeSettings& time = m.time;
+  time.dt = read_number(cf, t.name, t.key("dt"));
+  time.end_time = read_number(cf, t.name, t.key("end_time"));
+  cf.require(time.dt <= time.end_time, "time.dt", fmt::format("a time step no longer than end_time = {:g}", time.end_time));
+  time.scheme = read_string(cf, t.name, t.key("scheme")) == "newmark" ? TimeSettings::Scheme::Newmark
+                                                                      : TimeSettings::Scheme::GeneralisedAlpha;
+  time.beta = read_number(cf, t.name, t.key("beta"));
+  time.gamma = read_number(cf, t.name, t.key("gamma"));
+  time.rho_inf = read_number(cf, t.name, t.key("rho_inf"));
+  time.ramp_time = read_number(cf, t.name, t.key("ramp_time"));
+  time.consistent_mass = read_string(cf, t.name, t.key("mass")) == "consistent";
+  time.damping = read_number(cf, t.name, t.key("damping"));
+  time.stop_at_rest = read_number(cf, t.name, t.key("stop_at_rest"));
+  time.pic_fraction = read_number(cf, t.name, t.key("pic_fraction"));
+  if (time.ramp_time > 0.0) return;
+  for (const auto& c : m.constraints)
+    cf.require(c.total == 0.0, "time.ramp_time",
+               "a ramp time > 0 where a displacement other than 0 is prescribed ([[constraints]])");
+  for (const auto& b : m.rigid_boxes)
+    cf.require(b.total.isZero(), "time.ramp_time", "a ramp time > 0 where a rigid box moves ([[rigid_boxes]])");
+}
+
+/// [arc_length] method = "relative-displacement": the grid nodes nearest `from` and `to`.
+template <int dim>
+void read_arc_nodes(const CaseFile& cf, const GridRead<dim>& g, ArcLengthSettings& arc) {
+  const SectionSpec& a = mpm_section("arc_length");
+  if (read_string(cf, a.name, a.key("method")) == "cylindrical") return;
+  arc.method = ArcLengthSettings::Method::RelativeDisplacement;
+  const std::string axis = read_string(cf, a.name, a.key("component"));
+  arc.component = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+  cf.require(arc.component < dim, "arc_length.component", fmt::format("a component of a {}D case", dim));
+  for (const char* key : {"from", "to"}) {
+    const std::string name = std::string("arc_length.") + key;
+    cf.require(cf.has(name), name, "a point (relative-displacement control needs `from` and `to`)");
+    const Vec<dim> x = vec<dim>(cf, name);
+    typename Grid<dim>::Index ijk{};
+    for (int d = 0; d < dim; ++d) {
+      ijk[d] = static_cast<int>(std::lround((x[d] - g.origin[d]) / g.h[d]));
+      cf.require(ijk[d] >= 0 && ijk[d] <= g.n[d], name, "a point inside the grid");
+    }
+    (key[0] == 'f' ? arc.from_node : arc.to_node) = Grid<dim>(g.origin, g.h, g.n).node_index(ijk);
+  }
+  cf.require(arc.from_node != arc.to_node, "arc_length.to", "a grid node other than from's");
+}
+
 /// [load_steps] and [nonlinear_solver].
 NewtonSettings read_newton(const CaseFile& cf) {
   const SectionSpec& nl = mpm_section("nonlinear_solver");
   NewtonSettings newton;
-  newton.load_steps = static_cast<int>(read_integer(cf, "load_steps", mpm_section("load_steps").key("count")));
+  if (cf.has_section("arc_length")) {
+    const SectionSpec& a = mpm_section("arc_length");
+    cf.require(!cf.has_section("load_steps") && !cf.has_section("time"), "arc_length",
+               "arc-length control alone: no [load_steps] or [time] with it");
+    ArcLengthSettings& arc = newton.arc_length;
+    arc.enabled = true;
+    arc.max_steps = static_cast<int>(read_integer(cf, a.name, a.key("max_steps")));
+    arc.initial_increment = read_number(cf, a.name, a.key("initial_increment"));
+    arc.max_load_factor = read_number(cf, a.name, a.key("max_load_factor"));
+    arc.target_iterations = static_cast<int>(read_integer(cf, a.name, a.key("target_iterations")));
+    cf.require(arc.initial_increment <= arc.max_load_factor, "arc_length.initial_increment",
+               "a first load factor no larger than max_load_factor");
+  } else if (!cf.has_section("time")) {
+    cf.require(cf.has_section("load_steps"), "load_steps.count",
+               "a number of load steps ([load_steps] count), a [time] section for a dynamic analysis, or "
+               "[arc_length]");
+    newton.load_steps = static_cast<int>(read_integer(cf, "load_steps", mpm_section("load_steps").key("count")));
+  }
   newton.tolerance = read_number(cf, nl.name, nl.key("tolerance"));
   newton.max_iterations = static_cast<int>(read_integer(cf, nl.name, nl.key("max_iterations")));
   newton.max_cuts = static_cast<int>(read_integer(cf, nl.name, nl.key("max_cuts")));
@@ -561,7 +633,14 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   read_constraints(cf, g, m);
   read_rigid_boxes(cf, g, m);
   read_point_loads(cf, g, m);
-  const NewtonSettings newton = read_newton(cf);
+  read_time(cf, m);
+  NewtonSettings newton = read_newton(cf);
+  if (newton.arc_length.enabled) read_arc_nodes(cf, g, newton.arc_length);
+  if (newton.arc_length.enabled) {  // what the arc-length step does not move with the load factor
+    cf.require(m.rigid_boxes.empty(), "arc_length", "no [[rigid_boxes]] with arc-length control (they move with load steps only)");
+    cf.require(!cf.has_section("regularisation"), "arc_length",
+               "no [regularisation] with arc-length control (its staggered iteration runs with load steps only)");
+  }
   GradientSettings gradient = gradient_settings;
   gradient.linear_solver = newton.linear_solver;
   const MpmOutputSettings output = read_output(cf, m, bodies.total_points);

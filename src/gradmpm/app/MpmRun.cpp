@@ -134,8 +134,12 @@ template <int dim>
 void print_step(const StepInfo& info) {
   std::string res;
   for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
-  fmt::print("  step {:4d}  load {:.4f}  iterations {:2d}  cuts {}{}  residuals{}{}{}  ({:.2f} s)\n", info.step,
-             info.load_factor, info.phases.iterations, info.cuts,
+  const std::string where = info.time_increment > 0.0
+                                ? fmt::format("t {:.6g}  dt {:.3g}  kinetic {:.4g}", info.time, info.time_increment,
+                                              info.kinetic_energy)
+                                : fmt::format("load {:.4f}", info.load_factor);
+  fmt::print("  step {:4d}  {}  iterations {:2d}  cuts {}{}  residuals{}{}{}  ({:.2f} s)\n", info.step, where,
+             info.phases.iterations, info.cuts,
              info.staggers ? fmt::format("  staggers {}", info.staggers) : "", res,
              info.indefinite_solves
                  ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves)
@@ -143,6 +147,7 @@ void print_step(const StepInfo& info) {
              info.backtracks ? fmt::format("  [{} halved correction(s): a point inverted]", info.backtracks) : "",
              info.seconds);
   if (info.migrated > 0) fmt::print("             {} point(s) moved to another rank\n", info.migrated);
+  if (info.at_rest) fmt::print("             at rest: the kinetic energy has fallen to [time] stop_at_rest of its peak\n");
   for (const std::string& why : info.cut_reasons) fmt::print("             cut: {}\n", why);
   std::fflush(stdout);
 }
@@ -187,6 +192,7 @@ class MpmRun {
         c_(read_mpm_case<dim>(cf, ranks::distributed())),
         m_(c_.model),
         output_(c_.output),
+        dynamic_(m_.time.dynamic()),
         probe_(dir),  // fails now, before solving, if the directory is unusable
         gradient_step_(m_, c_.gradient),
         restart_(options.restart.empty() ? std::nullopt
@@ -197,7 +203,13 @@ class MpmRun {
         tracked_columns_(tracked_table_.with_state(kTrackedColumns)),
         block_u_(m_.node_sets.size(), Vec<dim>::Zero()) {
     if (gradient_step_.enabled()) stages_.push_back(&gradient_step_);
-    tracked_ = "step,load_factor," + join(tracked_table_.csv_header(tracked_columns_)) + "\n";
+    if (dynamic_) {  // a time column after the step's in every CSV file, kinetic energy in energy.csv
+      history_ = "step,time,load_factor,iteration,residual\n";
+      reactions_ = "step,time,load,name,rx,ry,rz,ux,uy,uz\n";
+      energy_ = "step,time,load_factor,work,elastic_energy,dissipation,kinetic_energy\n";
+    }
+    tracked_ = std::string(dynamic_ ? "step,time,load_factor," : "step,load_factor,") +
+               join(tracked_table_.csv_header(tracked_columns_)) + "\n";
     reports_ = !m_.node_sets.empty();
     for (const auto& b : m_.rigid_boxes) reports_ = reports_ || !b.name.empty();
   }
@@ -208,7 +220,7 @@ class MpmRun {
     // A distributed run: from here on each rank holds the points in its cells (and the
     // gradient step their fields), the outputs gather what they need.
     own_rank_points(m_, stages_);
-    if (!restart_) record(0, 0.0, nullptr);
+    if (!restart_) record(0, dynamic_ ? m_.time.load_factor(0.0) : 0.0, 0.0, nullptr);
     const auto t0 = Clock::now();
     try {
       const RunSummary summary = run_quasi_static<dim>(
@@ -243,9 +255,14 @@ class MpmRun {
     if (quiet_) return;
     const char* tuning = platform_hooks().summary;
     const char* wait = std::getenv("OMP_WAIT_POLICY");
-    fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {} load step(s), {}{} thread(s) (OpenMP {}){}{}\n",
-               dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis),
-               c_.newton.load_steps,
+    const TimeSettings& t = m_.time;
+    const std::string steps =
+        t.dynamic() ? fmt::format("dynamic ({}, {} mass, dt {:g} to t = {:g})",
+                                  t.scheme == TimeSettings::Scheme::Newmark ? "Newmark" : fmt::format("generalised-alpha, rho_inf {:g}", t.rho_inf),
+                                  t.consistent_mass ? "consistent" : "lumped", t.dt, t.end_time)
+                    : fmt::format("{} load step(s)", c_.newton.load_steps);
+    fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {}, {}{} thread(s) (OpenMP {}){}{}\n",
+               dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis), steps,
                ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(),
                omp_get_max_threads(), wait ? fmt::format("waiting {}", wait) : std::string("waiting by default"),
                tuning ? fmt::format(", {}", tuning) : std::string(), partition);
@@ -288,20 +305,26 @@ class MpmRun {
   }
 
   /// The rows of one step (0: the start) in every output that has one.
-  void record(int step, double lambda, const StepInfo* info) {
+  void record(int step, double lambda, double time, const StepInfo* info) {
     if (info) react(*info);
-    track(step, lambda);
-    balance(step, lambda);
+    track(step, lambda, time);
+    balance(step, lambda, time);
     if (output_.vtk_every > 0 && (step % output_.vtk_every == 0 || (info && info->last)))
-      write_vtk(step, lambda, info);
+      write_vtk(step, dynamic_ ? time : lambda, info);
+  }
+
+  /// The first columns of a step's rows: step and load factor, a dynamic run's time between.
+  std::string lead(int step, double lambda, double time) const {
+    return dynamic_ ? fmt::format("{},{},{}", step, time, lambda) : fmt::format("{},{}", step, lambda);
   }
 
   /// After each converged load step: its outputs, published whole, and its checkpoint.
   void observe(const StepInfo& info) {
     for (std::size_t k = 0; k < info.residuals.size(); ++k)
-      fmt::format_to(std::back_inserter(history_), "{},{},{},{}\n", info.step, info.load_factor, k, info.residuals[k]);
+      fmt::format_to(std::back_inserter(history_), "{},{},{}\n", lead(info.step, info.load_factor, info.time), k,
+                     info.residuals[k]);
     classical_seconds_ += info.seconds;
-    record(info.step, info.load_factor, &info);
+    record(info.step, info.load_factor, info.time, &info);
     if (writes_) {
       StagedOutputs out(dir_);
       out.write_text("newton_history.csv", history_);
@@ -326,7 +349,8 @@ class MpmRun {
     if (!quiet_) fmt::print("  checkpoint {} ({:.2f} s)\n", where, seconds_since(t_write));
   }
 
-  void write_vtk(int step, double lambda, const StepInfo* info) {
+  /// `at`: the PVD series' value of the step (the load factor, a dynamic run's time).
+  void write_vtk(int step, double at, const StepInfo* info) {
     const PointColumns<dim> table(m_, gradient_step_.fields());
     const std::vector<std::string> names = vtu_point_columns(table);
     const std::vector<VtkField> grid_fields = grid_vtk_fields(m_, info);  // (collective)
@@ -342,8 +366,8 @@ class MpmRun {
     StagedOutputs out(dir_);
     out.write_text(pf, in_pieces ? pvtu(table.vtk_layout(names), pieces[0]) : table.vtu(names));
     out.write_text(gf, in_pieces ? pvtu(grid_fields, pieces[1]) : grid_vtu(m_, grid_fields));
-    pvd_points_.emplace_back(lambda, pf);
-    pvd_grid_.emplace_back(lambda, gf);
+    pvd_points_.emplace_back(at, pf);
+    pvd_grid_.emplace_back(at, gf);
     out.write_text("points.pvd", pvd(pvd_points_));
     out.write_text("grid.pvd", pvd(pvd_grid_));
     out.commit();
@@ -355,8 +379,8 @@ class MpmRun {
       rv[d] = r[d];
       uv[d] = u[d];
     }
-    fmt::format_to(std::back_inserter(reactions_), "{},{},{},{},{},{},{},{},{}\n", info.step, info.load_factor, name,
-                   rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
+    fmt::format_to(std::back_inserter(reactions_), "{},{},{},{},{},{},{},{}\n", lead(info.step, info.load_factor, info.time),
+                   name, rv[0], rv[1], rv[2], uv[0], uv[1], uv[2]);
   }
 
   /// Named constraint blocks: reaction (the sum over the nodes) and mean displacement (the
@@ -416,19 +440,23 @@ class MpmRun {
 
   /// The energy balance: the work of the points' stresses (= the external work, reactions
   /// included, at equilibrium), the elastic energy they store, and what they dissipated.
-  void balance(int step, double lambda) {
-    double sums[2] = {0.0, 0.0};  // work, stored
+  void balance(int step, double lambda, double time) {
+    double sums[3] = {0.0, 0.0, 0.0};  // work, stored, kinetic
     for (int p = 0; p < m_.points.size(); ++p) {
       sums[0] += m_.points.work[p];
       sums[1] += m_.elastic_energy(p);
+      sums[2] += 0.5 * m_.points.mass[p] * m_.points.velocity[p].squaredNorm();
     }
-    ranks::sum(sums, 2);  // a distributed run: each rank's points
-    fmt::format_to(std::back_inserter(energy_), "{},{},{},{},{}\n", step, lambda, sums[0], sums[1], sums[0] - sums[1]);
+    ranks::sum(sums, 3);  // a distributed run: each rank's points
+    fmt::format_to(std::back_inserter(energy_), "{},{},{},{}{}\n", lead(step, lambda, time), sums[0], sums[1],
+                   sums[0] - sums[1], dynamic_ ? fmt::format(",{}", sums[2]) : std::string());
   }
 
-  void track(int step, double lambda) {
+  void track(int step, double lambda, double time) {
+    const std::vector<double> first =
+        dynamic_ ? std::vector<double>{double(step), time, lambda} : std::vector<double>{double(step), lambda};
     if (!ranks::distributed()) {
-      tracked_table_.append_rows(tracked_, {double(step), lambda}, output_.track, tracked_columns_);
+      tracked_table_.append_rows(tracked_, first, output_.track, tracked_columns_);
       return;
     }
     // Each rank the rows of the tracked points it owns, "k row" (k: the place in the
@@ -438,7 +466,7 @@ class MpmRun {
       const auto at = std::lower_bound(m_.point_ids.begin(), m_.point_ids.end(), output_.track[k]);
       if (at == m_.point_ids.end() || *at != output_.track[k]) continue;
       mine += fmt::format("{} ", k);
-      tracked_table_.append_rows(mine, {double(step), lambda}, {at - m_.point_ids.begin()}, tracked_columns_);
+      tracked_table_.append_rows(mine, first, {at - m_.point_ids.begin()}, tracked_columns_);
     }
     const std::vector<std::string> from_ranks = ranks::gather_on_root(mine);
     if (!writes_) return;
@@ -504,6 +532,7 @@ class MpmRun {
   MpmCase<dim> c_;
   Model<dim>& m_;
   const MpmOutputSettings& output_;
+  const bool dynamic_;  ///< [time]: a time column in the outputs
   StagedOutputs probe_;
   GradientStep<dim> gradient_step_;
   std::vector<PostStepStage<dim>*> stages_;

@@ -34,18 +34,15 @@
 #include "gradmpm/points/Transfer.hpp"
 #include "gradmpm/solver/Assembler.hpp"
 #include "gradmpm/solver/RowHalo.hpp"
+#include "gradmpm/solver/nonlinear/NonlinearProblem.hpp"
 
 namespace gradmpm::detail {
 
-/// A Newton failure inside one load step (the caller cuts the increment).
-struct StepFailure {
-  std::string reason;
-};
-
 /// The grid-side work of one load step: stencils at x_n, active dofs, the sparsity
-/// pattern, the prescribed increments, and the point loop of every Newton iteration.
+/// pattern, the prescribed increments, and the point loop of every Newton iteration. The
+/// quasi-static problem Newton solves (R = f_ext - f_int; solver/nonlinear/NonlinearProblem.hpp).
 template <int dim>
-class LoadStep {
+class LoadStep final : public ParametrisedProblem {
  public:
   /// `m`: the model of the points the step works on; in a distributed run this rank's
   /// (Model::point_ids: their numbers in the whole body, by which messages name them).
@@ -69,13 +66,14 @@ class LoadStep {
         response_(m.points.size()),
         trial_state_(m.points.state.size()) {
     // Prescribed increments of active constrained nodes (last definition wins).
-    std::map<int, double> prescribed;
+    std::map<int, std::pair<double, double>> prescribed;  // (increment, total)
     for (const auto& c : m.constraints)
-      if (dofs_.active(c.node)) prescribed[dofs_.dof(c.node, c.component)] = c.total * dlambda;
+      if (dofs_.active(c.node)) prescribed[dofs_.dof(c.node, c.component)] = {c.total * dlambda, c.total};
     for (const auto& [dof, value] : prescribed) {
       constrained_.push_back(dof);
-      increments_.push_back(value);
-      largest_increment_ = std::max(largest_increment_, std::abs(value));
+      increments_.push_back(value.first);
+      totals_.push_back(value.second);
+      largest_increment_ = std::max(largest_increment_, std::abs(value.first));
     }
     // (a distributed run's ranks know the constrained nodes of their own and ghost rows)
     if (split_) ranks::max(&largest_increment_, 1);
@@ -102,35 +100,69 @@ class LoadStep {
     }
   }
 
-  const DofMap& dofs() const { return dofs_; }
+  const DofMap& dofs() const override { return dofs_; }
   /// A distributed run's rows: this rank's and its ghosts' (those of its pattern's nodes
   /// in other ranks' rows); serially every row is this rank's.
-  const RowHalo& halo() const { return halo_; }
-  /// The 2-norms of f_ext, f_int and the residual r (right in every rank's own rows),
-  /// with one reduction over the ranks.
-  std::array<double, 3> norms(const Vector& f_int, const Vector& r) const {
-    return halo_.norms<3>({&f_ext_, &f_int, &r});
-  }
+  const RowHalo& halo() const override { return halo_; }
   /// The external force (a distributed run's: right in own and ghost rows).
   const Vector& f_ext() const { return f_ext_; }
-  const std::vector<int>& constrained() const { return constrained_; }
-  const std::vector<double>& increments() const { return increments_; }
+  /// The internal force at the last residual()'s iterate.
+  const Vector& f_int() const { return f_int_; }
+  const std::vector<int>& constrained() const override { return constrained_; }
+  const std::vector<double>& increments() const override { return increments_; }
   /// The largest prescribed increment (in size) over every rank's.
-  double largest_increment() const { return largest_increment_; }
+  double largest_increment() const override { return largest_increment_; }
   /// The tangent's pattern (its values: the last stiffness()'s).
-  const SparseMatrix& pattern() const { return tangent_; }
+  const SparseMatrix& pattern() const override { return tangent_; }
+
+  /// r = f_ext - f_int at du, zero in the constrained rows; its norm against the larger of
+  /// |f_ext| and |f_int| (every row: the reactions count), with one reduction over the ranks.
+  ResidualNorms residual(const Vector& du, Vector& r) override {
+    internal_force(du, f_int_);
+    r = f_ext_ - f_int_;
+    for (int c : constrained_) r[c] = 0.0;
+    const auto [f_ext_norm, f_int_norm, r_norm] = halo_.norms<3>({&f_ext_, &f_int_, &r});
+    // (std::max would drop a NaN: a failed material update must not read as balance)
+    const bool finite = std::isfinite(f_ext_norm) && std::isfinite(f_int_norm);
+    return {r_norm, finite ? std::max(f_ext_norm, f_int_norm) : std::numeric_limits<double>::quiet_NaN()};
+  }
+  SparseMatrix& tangent(bool share) override { return stiffness(share); }
+
+  /// The arc-length method's load factor (ParametrisedProblem). The rigid boxes stay where
+  /// the step was made for (a case with boxes is not run by arc-length).
+  void set_load_factor(double lambda_end, double dlambda) override {
+    f_ext_ = lambda_end * reference_load();
+    largest_increment_ = 0.0;
+    for (std::size_t k = 0; k < totals_.size(); ++k) {
+      increments_[k] = dlambda * totals_[k];
+      largest_increment_ = std::max(largest_increment_, std::abs(increments_[k]));
+    }
+    if (split_) ranks::max(&largest_increment_, 1);
+  }
+  /// Eq. (1) at load factor 1.
+  const Vector& reference_load() override {
+    if (f_ref_.size() == 0) {
+      f_ref_ = Vector::Zero(dofs_.num_dofs());
+      assembler_.for_each_point_disjoint(
+          [&](int p) { add_external_force(st_, model_.points, model_.gravity, 1.0, dofs_, p, f_ref_); });
+      halo_.sum(f_ref_);
+    }
+    return f_ref_;
+  }
+  const std::vector<double>& reference_increments() const override { return totals_; }
+  Eigen::MatrixXd node_coordinates() const override { return dofs_.coordinates(model_.grid); }
   const PointStencils<dim>& stencils() const { return st_; }
   /// The state block of the last internal_force() iterate.
   const std::vector<double>& trial_state() const { return trial_state_; }
   /// The round-off of the internal force: 100 eps_mach E h^(dim-1) sqrt(dofs), the norm of
   /// nodal forces from a stress error of eps_mach E (what the strain of a step cannot
   /// resolve). Newton stops below it whatever the relative residual says (tiny strains).
-  double roundoff_force() const {
+  double roundoff_force() const override {
     const double young = stiffest_young(model_.materials);
     const double area = model_.grid.cell_size().prod() / model_.grid.cell_size().maxCoeff();
     return 100.0 * std::numeric_limits<double>::epsilon() * young * area * std::sqrt(double(dofs_.num_global_dofs()));
   }
-  bool symmetric_tangent() const { return model_.symmetric_tangent(); }
+  bool symmetric_tangent() const override { return model_.symmetric_tangent(); }
 
   /// Point loop for the iterate du: material updates (stress and history) and the
   /// internal force f_int,i = sum_p tau_p grad N_i w_p. The updates are independent and
@@ -268,6 +300,23 @@ class LoadStep {
     return K;
   }
 
+  /// The consistent mass matrix M_(ai)(bk) = sum_p N_a N_b m_p delta_ik of this rank's
+  /// points, in the tangent's pattern (a dynamic step's inertia, mpm/Dynamics.hpp).
+  SparseMatrix consistent_mass() const {
+    SparseMatrix M = tangent_;
+    std::fill(M.valuePtr(), M.valuePtr() + M.nonZeros(), 0.0);
+    assembler_.add_matrix(
+        M,
+        [&](int p, const Stencil<dim>& s, typename Assembler<dim>::LocalMatrix& Ke) {
+          const double m = model_.points.mass[p];
+          for (int b = 0; b < s.count; ++b)
+            for (int a = b; a < s.count; ++a)
+              for (int i = 0; i < dim; ++i) Ke(a * dim + i, b * dim + i) += m * s.N[a] * s.N[b];
+        },
+        true);
+    return M;
+  }
+
   /// Eq. (2): maps the converged increment to the points and updates their state. Each
   /// point's update reads and writes its own entries only: on the threads (serially 0.02 s
   /// per step for 2e5 points in 2D).
@@ -298,9 +347,6 @@ class LoadStep {
     }
   }
 
-  /// The active nodes' coordinates, one row per node in equation order.
-  Eigen::MatrixXd node_coordinates() const { return dofs_.coordinates(model_.grid); }
-
   /// After commit: frees what only Newton needed, keeping stencils and equation numbers.
   void release_newton_data() {
     tangent_ = SparseMatrix();
@@ -313,10 +359,12 @@ class LoadStep {
 
   /// At a converged iterate: keeps the reactions f_int - f_ext (a distributed run's right
   /// in own and ghost rows); a distributed run sums the boxes' contact forces over the ranks.
-  void converged(const Vector& f_int) {
-    reaction_ = f_int - f_ext_;
+  void converged() override {
+    reaction_ = f_int_ - f_ext_;
     if (split_ && contact_) contact_->sum_forces_over_ranks();
   }
+  /// Adds f to the reactions (a dynamic step's inertia and damping forces).
+  void add_to_reactions(const Vector& f) { reaction_ += f; }
 
   /// The step's grid fields for the outputs, at every grid node or (a distributed run's)
   /// at the nodes listed.
@@ -516,8 +564,11 @@ class LoadStep {
   Assembler<dim> assembler_;
   std::vector<int> constrained_;
   std::vector<double> increments_;
+  std::vector<double> totals_;  ///< the prescribed values per unit load factor (constrained_'s order)
+  Vector f_ref_;                ///< eq. (1) at load factor 1 (made when the arc-length method asks)
   double largest_increment_ = 0.0;
   Vector f_ext_;
+  Vector f_int_;  ///< at the last residual()'s iterate
   /// Written by every internal_force() before it is read: not zeroed when made (2e5
   /// points: 40 MB, 4 ms of a load step's set-up).
   std::vector<MaterialResponse, DefaultInitAllocator<MaterialResponse>> response_;

@@ -2,6 +2,7 @@
 // Everything an implicit quasi-static MPM analysis needs: the background grid, the
 // material points, the materials, the basis, the loads and the grid constraints.
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -12,7 +13,7 @@
 #include "gradmpm/grid/RankBoxes.hpp"
 #include "gradmpm/materials/Material.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
-#include "gradmpm/solver/linear/LinearSolverSettings.hpp"
+#include "gradmpm/solver/nonlinear/NewtonSettings.hpp"
 
 namespace gradmpm {
 
@@ -57,6 +58,42 @@ struct Regularisation {
   double tolerance = 1e-6;   ///< on max |d kappa_bar| / max kappa_bar of a staggered iteration
 };
 
+/// Implicit dynamics ([time]; mpm/Dynamics.hpp): the grid's equations gain the points'
+/// inertia M a (and Rayleigh damping alpha M v), integrated by Newmark or generalised-alpha
+/// in time steps dt from t = 0 to end_time. dt = 0: a quasi-static analysis.
+struct TimeSettings {
+  enum class Scheme { Newmark, GeneralisedAlpha };
+  double dt = 0.0;        ///< the nominal time step (cut and grown back as load steps are)
+  double end_time = 0.0;  ///< the run ends at t = end_time
+  Scheme scheme = Scheme::Newmark;
+  double beta = 0.25, gamma = 0.5;  ///< Newmark's (the trapezoidal rule: no numerical damping)
+  /// Generalised-alpha's spectral radius at dt -> infinity (Chung & Hulbert 1993): 1
+  /// keeps every mode, 0 damps the highest at once.
+  double rho_inf = 0.8;
+  /// The load factor lambda(t) = min(t / ramp_time, 1); 0: the loads act in full from t = 0
+  /// (then no displacement may be prescribed other than 0).
+  double ramp_time = 0.0;
+  bool consistent_mass = false;  ///< M_ab = sum_p N_a N_b m_p (serial runs); else lumped, m_a = sum_p N_a m_p
+  double damping = 0.0;          ///< Rayleigh's mass-proportional alpha (1/s): C = alpha M
+  /// theta of the points' velocity update v_p = (1 - theta) v_p,Newmark + theta sum_i N_ip v_i:
+  /// the part of v_p the grid cannot see (not an interpolant of nodal values) is kept by
+  /// Newmark's update (theta = 0) and never moves anything; theta > 0 lets it decay.
+  double pic_fraction = 0.0;
+  /// Stop once the kinetic energy has fallen below this fraction of its peak (after the
+  /// peak; 0: run to end_time): a collapse followed to rest.
+  double stop_at_rest = 0.0;
+
+  bool dynamic() const { return dt > 0.0; }
+  double load_factor(double t) const { return ramp_time > 0.0 ? std::min(t / ramp_time, 1.0) : 1.0; }
+  /// alpha_m, alpha_f, beta, gamma of the scheme (Newmark: alpha_m = alpha_f = 0).
+  std::array<double, 4> coefficients() const {
+    if (scheme == Scheme::Newmark) return {0.0, 0.0, beta, gamma};
+    const double am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0), af = rho_inf / (rho_inf + 1.0);
+    const double g = 0.5 - am + af;
+    return {am, af, 0.25 * (1.0 - am + af) * (1.0 - am + af), g};
+  }
+};
+
 template <int dim>
 struct Model {
   Grid<dim> grid;
@@ -74,6 +111,7 @@ struct Model {
   std::vector<NamedNodeSet> node_sets;
   std::vector<RigidBox<dim>> rigid_boxes;
   Regularisation regularisation;
+  TimeSettings time;  ///< implicit dynamics ([time]); time.dt = 0: quasi-static
   /// A distributed run's points are owned (mpm/PointMigration.hpp): `points` holds this
   /// rank's, and its point k is point point_ids[k] of the whole body (increasing; its row
   /// of points_final.csv). Empty while `points` holds every point in id order (a serial run).
@@ -142,94 +180,41 @@ struct Model {
   }
 };
 
-struct NewtonSettings {
-  int load_steps = 1;
-  double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
-  int max_iterations = 25;
-  int max_cuts = 6;  ///< halvings of a failing load increment before giving up
-  /// A direct solver keeps its symbolic analysis for the next load step when that step's
-  /// pattern is the same (the answer is the same to the bit; off only to test that).
-  bool reuse_analysis = true;
-  /// When the pattern has changed, the analysis takes the previous step's fill-reducing
-  /// ordering, carried through the grid nodes, unless the pattern's entries changed by
-  /// more than 10 % or the fill exceeds by 10 % that of the last ordering computed afresh
-  /// (then it orders afresh): the ordering (AMD, METIS) is most of an analysis. The
-  /// answer is the same to round-off (off only to test that).
-  bool reuse_ordering = true;
-  /// Where a load step's symbolic analysis runs: on the calling thread beside its first
-  /// tangent's assembly on the other threads where the last measured analysis and
-  /// tangent say it pays (Measured), always there (Always), or after the assembly (Never).
-  /// The answer is the same to the bit (Always and Never only to test that).
-  enum class AnalysisBeside { Measured, Always, Never } analysis_beside = AnalysisBeside::Measured;
-  LinearSolverSettings linear_solver;
-};
-
-/// Seconds spent in each phase of a load step (summed over its Newton iterations).
-struct PhaseTimes {
-  double pattern = 0;   ///< shape functions, active nodes, sparsity pattern, f_ext
-  double assembly = 0;  ///< point loop: material updates, f_int and tangent scatter-add
-  double analysis = 0;  ///< symbolic factorisation (once per load step)
-  double factor = 0;    ///< numeric factorisations
-  double solve = 0;     ///< triangular solves
-  double update = 0;    ///< mapping the increment to the points, updating their state
-  double nonlocal = 0;  ///< regularised plasticity: the Helmholtz operator and the kappa_bar solves
-  int iterations = 0;   ///< Newton iterations (linear solves)
-  int analyses = 0;     ///< symbolic analyses (0 in a step whose pattern the previous step had)
-  int orderings = 0;    ///< of which with an ordering computed afresh (the others took the previous step's)
-  int beside = 0;       ///< of which beside the first tangent's assembly (NewtonSettings::analysis_beside)
-  long krylov = 0;      ///< Krylov iterations of those solves (an iterative linear solver; 0 for a direct one)
-  PhaseTimes& operator+=(const PhaseTimes& o) {
-    pattern += o.pattern;
-    assembly += o.assembly;
-    analysis += o.analysis;
-    factor += o.factor;
-    solve += o.solve;
-    update += o.update;
-    nonlocal += o.nonlocal;
-    iterations += o.iterations;
-    analyses += o.analyses;
-    orderings += o.orderings;
-    beside += o.beside;
-    krylov += o.krylov;
-    return *this;
-  }
-};
-
 struct RunSummary {
   int steps = 0;
   int total_iterations = 0;
   int cuts = 0;
 };
 
-/// The last analysis's ordering, which the next load step's analysis starts from
-/// (NewtonSettings::reuse_ordering; empty for iterative solvers).
-struct CarriedOrdering {
-  std::vector<int> nodes;  ///< the grid nodes in the order their equations were eliminated
-  double fill = 0.0;       ///< entries of the factor per entry of the matrix, of the last ordering computed afresh
-  double entries = 0.0;    ///< the matrix's entries at the last analysis
-};
-
 /// Where the driver stands between two load steps: with the model (and the post-step
 /// stages' state), everything a restarted run needs to continue bit for bit.
 struct DriverState {
   double load_factor = 0.0;     ///< lambda reached
-  double next_increment = 0.0;  ///< d lambda the next step tries first (0: the nominal one)
+  double next_increment = 0.0;  ///< d lambda (a dynamic run: dt) the next step tries first (0: the nominal one)
+  double time = 0.0;            ///< a dynamic run's time reached (0 in a quasi-static one)
+  double peak_kinetic_energy = 0.0;  ///< a dynamic run's largest kinetic energy so far (TimeSettings::stop_at_rest)
+  /// Arc-length control: the last step's increment at every grid node (dim per node; the
+  /// predictor's direction), and the largest load factor reached.
+  std::vector<double> arc_previous;
+  double arc_nominal = 0.0;  ///< the first arc's length, which later arcs grow back to and not beyond
+  double peak_load_factor = 0.0;
   RunSummary summary;           ///< of the steps so far
   CarriedOrdering ordering;     ///< what the next step's analysis starts from
 };
 
 /// What one converged load step did; passed to the observer after every step.
-struct StepInfo {
+/// (NewtonLog: its residuals, phase times, indefinite solves and backtracks.)
+struct StepInfo : NewtonLog {
   int step = 0;                          ///< 1, 2, ... (converged steps)
   double load_factor = 0.0;              ///< lambda at the end of the step
   double increment = 0.0;                ///< d lambda of the step
+  double time = 0.0;                     ///< a dynamic run's time t at the end of the step (0 in a quasi-static one)
+  double time_increment = 0.0;           ///< a dynamic run's dt of the step
+  double kinetic_energy = 0.0;           ///< a dynamic run's sum of m_p |v_p|^2 / 2 at the end of the step
+  bool at_rest = false;                  ///< a dynamic run stops here: TimeSettings::stop_at_rest reached
   int cuts = 0;                          ///< halvings needed before this step converged
   std::vector<std::string> cut_reasons;  ///< why each of those attempts failed
-  std::vector<double> residuals;         ///< normalised out-of-balance force per Newton iteration
   int staggers = 0;                      ///< staggered iterations of kappa_bar (regularised plasticity; 0 without)
-  int indefinite_solves =
-      0;  ///< iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
-  int backtracks = 0;  ///< halvings of Newton corrections that inverted a point (the converged attempt)
   int migrated = 0;    ///< a distributed run: points that changed rank after the step (all ranks')
   bool last = false;   ///< the step that reaches load factor 1
   DriverState after;   ///< the driver's state after this step (what a checkpoint of it records)
@@ -251,7 +236,6 @@ struct StepInfo {
   std::function<Vector()> rigid_forces;
   double seconds = 0.0;        ///< the load step, its cuts included, without the post-step stages
   double stage_seconds = 0.0;  ///< the post-step stages
-  PhaseTimes phases;           ///< of the converged attempt
   int dofs = 0;                ///< equations of the step
   long nonzeros = 0;           ///< entries of the tangent
 };

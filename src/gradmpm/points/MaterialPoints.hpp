@@ -32,6 +32,10 @@ struct MaterialPoints {
   /// step's, by the trapezoid rule). W_p minus the stored elastic energy is what the point
   /// has dissipated (Model::elastic_energy).
   std::vector<double> work;
+  /// A dynamic run's velocity v_p and acceleration a_p (mpm/Dynamics.hpp); zero in a
+  /// quasi-static one.
+  std::vector<Vec<dim>> velocity;
+  std::vector<Vec<dim>> acceleration;
 
   int size() const { return static_cast<int>(position.size()); }
 
@@ -83,6 +87,8 @@ struct MaterialPoints {
     original_half_length.push_back(lp);
     force.push_back(Vec<dim>::Zero());
     work.push_back(0.0);
+    velocity.push_back(Vec<dim>::Zero());
+    acceleration.push_back(Vec<dim>::Zero());
   }
 
  private:
@@ -102,6 +108,8 @@ struct MaterialPoints {
     f("original_half_length", p.original_half_length...);
     f("force", p.force...);
     f("work", p.work...);
+    f("velocity", p.velocity...);
+    f("acceleration", p.acceleration...);
   }
 };
 
