@@ -12,6 +12,9 @@
 // Cases (built from case-file text, so they are the code paths users run):
 //   column_2d  a square block under self-weight (Hencky, nu = 0.3), base fixed, sides on
 //              rollers, cpGIMP, 2 points per cell and direction; n x n cells
+//   column_2d_dynamic the 2D column with [time] (Newmark, lumped mass, dt = 0.05, gravity in
+//              full from t = 0) instead of load steps: what the points' inertia costs a Newton
+//              iteration (the mass's projection, M a in the residual, M in the tangent)
 //   column_3d  the same in 3D; n x n x n cells
 //   footing_2d examples/footing_2d.toml refined by a factor (uGIMP)
 //   tresca_2d  examples/footing_tresca_2d.toml (von Mises, plastic under the footing)
@@ -117,6 +120,14 @@ gravity = {}
     constraint(min, {20.0, 20.0, 20.0}, all_axes[d]);
   }
   return t + "[load_steps]\ncount = 10\n[output]\nvtk_every = 0\n";
+}
+
+/// The column with the points' inertia: time steps of 0.05 (the column's first period is
+/// about 1) instead of load steps.
+std::string dynamic_column(int dim, int n) {
+  std::string t = column(dim, n);
+  const std::string steps = "[load_steps]\ncount = 10\n";
+  return t.replace(t.find(steps), steps.size(), "[time]\ndt = 0.05\nend_time = 1.0\n");
 }
 
 double peak_mib() {
@@ -239,6 +250,7 @@ int main(int argc, char** argv) {
   }
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
+  std::vector<int> dynamic2 = quick ? std::vector<int>{20, 224} : std::vector<int>{20, 224};
   std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};
   std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8, 16, 32};
   std::vector<int> plastic = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 12};
@@ -247,14 +259,15 @@ int main(int argc, char** argv) {
     const auto colon = only.find(':');
     const std::string name = only.substr(0, colon);
     const int size = colon == std::string::npos ? 0 : std::atoi(only.c_str() + colon + 1);
-    if (size <= 0 || (name != "column_2d" && name != "column_3d" && name != "footing_2d" && name != "tresca_2d" &&
-                      name != "biaxial_2d")) {
+    if (size <= 0 || (name != "column_2d" && name != "column_2d_dynamic" && name != "column_3d" &&
+                      name != "footing_2d" && name != "tresca_2d" && name != "biaxial_2d")) {
       fmt::print(stderr,
-                 "bench_mpm: --only expects column_2d:N, column_3d:N, footing_2d:R, tresca_2d:R or biaxial_2d:R with "
-                 "N, R > 0, not '{}'\n",
+                 "bench_mpm: --only expects column_2d:N, column_2d_dynamic:N, column_3d:N, footing_2d:R, tresca_2d:R "
+                 "or biaxial_2d:R with N, R > 0, not '{}'\n",
                  only);
       return 2;
     }
+    dynamic2 = name == "column_2d_dynamic" ? std::vector<int>{size} : std::vector<int>{};
     n2 = name == "column_2d" ? std::vector<int>{size} : std::vector<int>{};
     n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
@@ -265,6 +278,9 @@ int main(int argc, char** argv) {
                     options_key = fmt::format("linear_solver.options=\"{}\"", options);
   for (int n : n2)
     bench<2>("column_2d", CaseFile::parse(column(2, n), "column_2d", {solver_key, options_key}), csv, threads);
+  for (int n : dynamic2)
+    bench<2>("column_2d_dynamic", CaseFile::parse(dynamic_column(2, n), "column_2d_dynamic", {solver_key, options_key}),
+             csv, threads);
   for (int n : n3)
     bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key, options_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";

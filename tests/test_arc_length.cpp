@@ -10,7 +10,10 @@
 //      F = E eps e^-eps of uniaxial strain) to round-off at every step, and stops at
 //      max_load_factor;
 //   A3 a case with arc-length and rigid boxes, regularisation or [load_steps] is refused
-//      with the key named.
+//      with the key named;
+//   A4 displacement control of a load-driven case (an elastic bar pulled by a point load,
+//      the free end's node controlled) moves that node by the same amount every step and
+//      finds the load factor of the load-controlled answer, u(lambda) = lambda u(1), to 1e-9.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -198,4 +201,68 @@ TEST(ArcLength, A3RefusesWhatItCannotMove) {
   };
   refused("[load_steps]\ncount = 3\n", "arc_length");
   refused("[[rigid_boxes]]\nmin = [1.0]\nmax = [1.02]\ndisplacement = [-0.01]\n", "arc_length");
+}
+
+namespace {
+std::string pulled_bar(const std::string& control) {
+  return R"(
+[grid]
+origin = [0.0]
+cell_size = 0.1
+cells = [12]
+[basis]
+type = "mpm"
+[materials.bar]
+model = "linear-elastic"
+young = 1.0e7
+poisson = 0.0
+density = 1.0
+[[bodies]]
+material = "bar"
+min = [0.0]
+max = [1.0]
+points_per_cell = 2
+[[point_loads]]
+min = [0.95]
+max = [1.0]
+force = [1.0]
+[[constraints]]
+min = [0.0]
+max = [0.0]
+fix = ["x"]
+[output]
+track = [19]
+)" + control;
+}
+}  // namespace
+
+TEST(ArcLength, A4DisplacementControlOfALoadDrivenCase) {
+  CaseFile load = CaseFile::parse(pulled_bar("[load_steps]\ncount = 1\n"), "bar.toml");
+  MpmCase<1> once = read_mpm_case<1>(load);
+  const int node = 10;  // x = 1
+  double u_full = 0.0;
+  run_quasi_static<1>(once.model, once.newton,
+                      [&](const Model<1>&, const StepInfo& info) { u_full = info.grid_displacement()[node]; });
+  CaseFile arc = CaseFile::parse(pulled_bar(R"(
+[arc_length]
+method = "displacement"
+at = [1.0]
+initial_increment = 0.1
+max_steps = 7
+max_load_factor = 100.0
+)"),
+                                 "bar.toml");
+  MpmCase<1> c = read_mpm_case<1>(arc);
+  double u = 0.0, worst = 0.0, first = 0.0;
+  int steps = 0;
+  run_quasi_static<1>(c.model, c.newton, [&](const Model<1>&, const StepInfo& info) {
+    const double du = info.grid_displacement()[node];
+    if (steps++ == 0) first = du;
+    u += du;
+    worst = std::max({worst, std::abs(du - first) / first, std::abs(u - info.load_factor * u_full) / u});
+  });
+  std::cout << "A4 displacement control: " << steps << " steps of du = " << first << " at x = 1, to load factor "
+            << u / u_full << "; largest departure " << worst << "\n";
+  EXPECT_EQ(steps, 7);
+  EXPECT_LT(worst, 1e-9);
 }

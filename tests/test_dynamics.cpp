@@ -10,7 +10,12 @@
 //      1e-6 per period over 20 periods (Love & Sulsky 2006: the consistent mass makes the
 //      point-grid transfer lossless);
 //   D4 generalised-alpha damps a mode far above 1 / dt by rho_inf per step, and the
-//      trapezoidal rule not at all (Chung & Hulbert 1993).
+//      trapezoidal rule not at all (Chung & Hulbert 1993);
+//   D5 an elastic column under gravity switched on at t = 0, with Rayleigh damping, comes
+//      to rest (stop_at_rest = 1e-8: the kinetic energy 1e-8 of its peak, the inertia and
+//      damping forces 1e-4 of the forces in balance) and its base then carries its weight
+//      to 1e-3 (the guard of the long test of the vertical cut's
+//      collapse to rest, tests/test_collapse_dynamic.cpp).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -226,4 +231,32 @@ TEST(Dynamics, D4GeneralisedAlphaDampsTheHighestMode) {
     EXPECT_NEAR(radius, rho_inf, 0.01);
     EXPECT_LT(worst, 1e-6 * largest);
   }
+}
+
+TEST(Dynamics, D5ADampedColumnComesToRestCarryingItsWeight) {
+  // x in [0, 1], fixed at x = 0, gravity -10 along x; E = 1e4, rho = 1: c = 100, the
+  // first period 4 L / c = 0.04; alpha = 50 1/s damps it by e^-1 in 0.04 s.
+  Model<1> m = fixed_free_bar(16, 1e4);
+  m.gravity = Vec<1>(-10.0);
+  m.time.dt = 0.002;
+  m.time.end_time = 5.0;
+  m.time.damping = 50.0;
+  m.time.stop_at_rest = 1e-8;
+  NewtonSettings s;
+  double weight = 0.0, base = 0.0, peak = 0.0, kinetic = 0.0, t = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) weight += 10.0 * m.points.mass[p];
+  bool rest = false;
+  run_quasi_static<1>(m, s, [&](const Model<1>&, const StepInfo& info) {
+    peak = std::max(peak, info.kinetic_energy);
+    kinetic = info.kinetic_energy;
+    t = info.time;
+    rest = info.at_rest;
+    base = info.grid_reaction()[0];
+  });
+  std::cout << "D5 at rest at t = " << t << " (kinetic energy " << kinetic / peak << " of its peak); base reaction "
+            << base << " against the weight " << weight << "\n";
+  EXPECT_TRUE(rest);
+  EXPECT_LT(t, 5.0);
+  EXPECT_LE(kinetic, 1e-8 * peak);
+  EXPECT_NEAR(base / weight, 1.0, 1e-3);
 }

@@ -4,7 +4,8 @@
 //  - the VTK files are complete XML that ParaView reads (.pvd lists each .vtu);
 //  - the 1D and 2D column examples settle to at most 0.7 H0 and meet the closed form;
 //  - a diverging run exits with code 1 and leaves the files of converged steps complete;
-//  - a dynamic case writes the time in every CSV file and the PVD series, the kinetic
+//  - a dynamic case writes the time in every CSV file and the PVD series, the points'
+//    velocity in points_final.csv and the VTU files, the kinetic
 //    energy in energy.csv: without damping, the work of the stresses and the kinetic
 //    energy add up to the work of gravity (g times the mass-weighted fall) to 0.2 %
 //    while the vertical cut collapses (0.07 % measured with the lumped mass); [time] with
@@ -148,6 +149,8 @@ TEST_F(MpmCli, DynamicCasesWriteTheTimeAndAreChecked) {
   std::cout << "work of gravity " << gravity_work << ", work of the stresses + kinetic energy " << stored << "\n";
   EXPECT_NEAR(stored / gravity_work, 1.0, 2e-3);
   EXPECT_NE(slurp(dir / "points.pvd").find("timestep=\"0.1"), std::string::npos);
+  EXPECT_NE(slurp(dir / "points_final.csv").find(",dissipation,vx,vy,vz\n"), std::string::npos);
+  EXPECT_NE(slurp(dir / "points_0005.vtu").find("Name=\"velocity\""), std::string::npos);
   EXPECT_EQ(slurp(dir / "newton_history.csv").rfind("step,time,load_factor,iteration,residual\n", 0), 0u);
   const std::vector<std::pair<std::string, std::string>> refused = {
       {example("column_2d.toml") + " --set time.dt=0.1 --set time.end_time=1",

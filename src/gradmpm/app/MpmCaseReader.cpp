@@ -534,14 +534,23 @@ void read_time(const CaseFile& cf, Model<dim>& m) {
 template <int dim>
 void read_arc_nodes(const CaseFile& cf, const GridRead<dim>& g, ArcLengthSettings& arc) {
   const SectionSpec& a = mpm_section("arc_length");
-  if (read_string(cf, a.name, a.key("method")) == "cylindrical") return;
-  arc.method = ArcLengthSettings::Method::RelativeDisplacement;
+  const std::string method = read_string(cf, a.name, a.key("method"));
+  for (const char* key : {"from", "to", "at"}) {
+    const bool used = method == "displacement" ? key[0] == 'a' : method == "relative-displacement" && key[0] != 'a';
+    cf.require(used || !cf.has(std::string("arc_length.") + key), std::string("arc_length.") + key,
+               fmt::format("no such key with method = \"{}\"", method));
+  }
+  if (method == "cylindrical") return;
+  const bool single = method == "displacement";
+  arc.method = single ? ArcLengthSettings::Method::Displacement : ArcLengthSettings::Method::RelativeDisplacement;
   const std::string axis = read_string(cf, a.name, a.key("component"));
   arc.component = axis == "x" ? 0 : axis == "y" ? 1 : 2;
   cf.require(arc.component < dim, "arc_length.component", fmt::format("a component of a {}D case", dim));
-  for (const char* key : {"from", "to"}) {
+  for (const char* key : single ? std::vector<const char*>{"at"} : std::vector<const char*>{"from", "to"}) {
     const std::string name = std::string("arc_length.") + key;
-    cf.require(cf.has(name), name, "a point (relative-displacement control needs `from` and `to`)");
+    cf.require(cf.has(name), name,
+               single ? "a point (displacement control needs `at`)"
+                      : "a point (relative-displacement control needs `from` and `to`)");
     const Vec<dim> x = vec<dim>(cf, name);
     typename Grid<dim>::Index ijk{};
     for (int d = 0; d < dim; ++d) {
@@ -550,7 +559,7 @@ void read_arc_nodes(const CaseFile& cf, const GridRead<dim>& g, ArcLengthSetting
     }
     (key[0] == 'f' ? arc.from_node : arc.to_node) = Grid<dim>(g.origin, g.h, g.n).node_index(ijk);
   }
-  cf.require(arc.from_node != arc.to_node, "arc_length.to", "a grid node other than from's");
+  if (!single) cf.require(arc.from_node != arc.to_node, "arc_length.to", "a grid node other than from's");
 }
 
 /// [load_steps] and [nonlinear_solver].

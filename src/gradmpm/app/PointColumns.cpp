@@ -55,6 +55,8 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
          *o = m.points.work[p] - m.elastic_energy(p);
        }});
   add({"material", Kind::Scalar, {"material"}, true, [&P](int p, double* o) { *o = P.material[p]; }});
+  add({"velocity", Kind::Vector, suffixed("v", "", false), false,
+       [&P](int p, double* o) { put<dim>(P.velocity[p], o); }});  // (a dynamic run's outputs)
   if (g) {
     add({"gradient_displacement", Kind::Vector, suffixed("u", "_g", false), false,
          [g](int p, double* o) { put<dim>(g->displacement[p], o); }});

@@ -147,7 +147,13 @@ class DynamicStep final : public NonlinearProblem {
   void converged() override {
     step_.converged();
     step_.add_to_reactions(inertia_);
+    const auto [inertia, f_ext, f_int] = step_.halo().template norms<3>({&inertia_, &step_.f_ext(), &step_.f_int()});
+    const double scale = std::max(f_ext, f_int);
+    inertia_ratio_ = scale > 0.0 ? inertia / scale : 0.0;
   }
+  /// |M a + C v| against the larger of |f_ext| and |f_int| at the solution: how far from
+  /// static balance the step ended (TimeSettings::stop_at_rest).
+  double inertia_ratio() const { return inertia_ratio_; }
 
   /// After LoadStep::commit: the points' acceleration and velocity from the converged du.
   /// (At t = 0 the points' acceleration is first the one in balance, a_p,0 = sum_i N_ip a_i,0.)
@@ -237,6 +243,7 @@ class DynamicStep final : public NonlinearProblem {
   Vector v_n_, a_n_;   ///< the grid's velocity and acceleration at t_n
   Vector balance_n_;   ///< generalised-alpha: (f_ext - f_int) at t_n
   Vector inertia_;     ///< M a + C v at the last residual()'s iterate
+  double inertia_ratio_ = 0.0;
 };
 
 }  // namespace gradmpm::detail

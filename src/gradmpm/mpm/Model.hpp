@@ -79,8 +79,9 @@ struct TimeSettings {
   /// the part of v_p the grid cannot see (not an interpolant of nodal values) is kept by
   /// Newmark's update (theta = 0) and never moves anything; theta > 0 lets it decay.
   double pic_fraction = 0.0;
-  /// Stop once the kinetic energy has fallen below this fraction of its peak (after the
-  /// peak; 0: run to end_time): a collapse followed to rest.
+  /// Stop once the kinetic energy has fallen below this fraction of its peak and the
+  /// inertia and damping forces below its square root of the forces in balance (not at
+  /// an oscillation's turning point); 0: run to end_time. A collapse followed to rest.
   double stop_at_rest = 0.0;
 
   bool dynamic() const { return dt > 0.0; }
@@ -211,6 +212,8 @@ struct StepInfo : NewtonLog {
   double time = 0.0;                     ///< a dynamic run's time t at the end of the step (0 in a quasi-static one)
   double time_increment = 0.0;           ///< a dynamic run's dt of the step
   double kinetic_energy = 0.0;           ///< a dynamic run's sum of m_p |v_p|^2 / 2 at the end of the step
+  /// a dynamic run's |M a + C v| against the larger of |f_ext| and |f_int| at the solution
+  double inertia_ratio = 0.0;
   bool at_rest = false;                  ///< a dynamic run stops here: TimeSettings::stop_at_rest reached
   int cuts = 0;                          ///< halvings needed before this step converged
   std::vector<std::string> cut_reasons;  ///< why each of those attempts failed

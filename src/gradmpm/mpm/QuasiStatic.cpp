@@ -154,11 +154,13 @@ double kinetic_energy(const Model<dim>& model) {
 /// Indirect displacement control's constraint: u_to - u_from of the component, as
 /// (equation, weight) pairs of the step's numbering.
 std::vector<std::pair<int, double>> relative_displacement(const ArcLengthSettings& arc, const DofMap& dofs) {
+  const bool single = arc.method == ArcLengthSettings::Method::Displacement;
   for (const int node : {arc.from_node, arc.to_node})
-    if (!dofs.active(node))
-      throw UserError(fmt::format("[arc_length]: grid node {} (arc_length.from or .to) is in no point's stencil: "
-                                  "choose points inside the body",
-                                  node));
+    if (!(single && node == arc.from_node) && !dofs.active(node))
+      throw UserError(fmt::format("[arc_length]: grid node {} (arc_length.{}) is in no point's stencil: choose a "
+                                  "point inside the body",
+                                  node, single ? "at" : "from or .to"));
+  if (single) return {{dofs.dof(arc.to_node, arc.component), 1.0}};
   return {{dofs.dof(arc.to_node, arc.component), 1.0}, {dofs.dof(arc.from_node, arc.component), -1.0}};
 }
 
@@ -197,7 +199,10 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
   }
   t0 = Clock::now();
   step->commit(model, du);
-  if (dynamic) dynamic->commit(model, du);
+  if (dynamic) {
+    dynamic->commit(model, du);
+    info.inertia_ratio = dynamic->inertia_ratio();
+  }
   info.migrated = migrate_to_owners(model, stages);  // points now in another rank's cells go to it
   if (ranks::distributed()) {
     double moved = info.migrated;
@@ -281,7 +286,7 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       try {
         arc.length = dtau;
         arc.linear.clear();
-        if (arc_step && settings.arc_length.method == ArcLengthSettings::Method::RelativeDisplacement)
+        if (arc_step && settings.arc_length.method != ArcLengthSettings::Method::Cylindrical)
           arc.linear = {{-1, 0.0}};  // (made once the step's equations are numbered: attempt_step)
         du = attempt_step(model, settings, control, tau, dtau, initial, stages, newton, step, info, summary.steps + 1,
                           arc_step ? &arc : nullptr);
@@ -310,8 +315,11 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       info.time_increment = dtau;
       info.kinetic_energy = kinetic_energy(model);
       peak_kinetic = std::max(peak_kinetic, info.kinetic_energy);
-      info.at_rest = model.time.stop_at_rest > 0.0 && peak_kinetic > 0.0 &&
-                     info.kinetic_energy <= model.time.stop_at_rest * peak_kinetic;
+      // At rest: little kinetic energy, and not at the turning point of an oscillation
+      // (where the velocity vanishes but the acceleration does not).
+      const double rest = model.time.stop_at_rest;
+      info.at_rest = rest > 0.0 && peak_kinetic > 0.0 && info.kinetic_energy <= rest * peak_kinetic &&
+                     info.inertia_ratio <= std::sqrt(rest);
     }
     info.seconds = seconds_since(t0);
     peak_lambda = std::max(peak_lambda, info.load_factor);
@@ -323,12 +331,12 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
       const Vector at_nodes = step->dofs().to_grid_all(du);
       previous.assign(at_nodes.data(), at_nodes.data() + at_nodes.size());
       if (!arc_step) {
-        const bool relative = settings.arc_length.method == ArcLengthSettings::Method::RelativeDisplacement;
+        const bool relative = settings.arc_length.method != ArcLengthSettings::Method::Cylindrical;
         dtau = arc_nominal = relative ? opening(du) : du.norm();
         if (!(dtau > 0.0))
           throw UserError(fmt::format(
               "[arc_length]: the controlled {} did not grow in the first step ({:.3g}); choose arc_length.from and "
-              "arc_length.to across the zone that opens",
+              ".to across the zone that opens (or arc_length.at and .component where the load pushes)",
               relative ? "relative displacement" : "displacement", dtau));
       }
       else if (info.cuts == 0) dtau = next_arc(settings.arc_length, dtau, info.phases.iterations, arc_nominal);

@@ -18,8 +18,10 @@ struct ArcLengthSettings {
   /// u_to - u_from of one component grows by l each step (indirect displacement control,
   /// de Borst 1987), which follows a snap-back whose displacements retrace their way
   /// (elastic unloading around a softening zone) where the cylindrical arc cannot turn.
-  enum class Method { Cylindrical, RelativeDisplacement } method = Method::Cylindrical;
-  int from_node = -1, to_node = -1;  ///< relative displacement: the grid nodes
+  /// displacement: the displacement of one node's component grows by l each step
+  /// (displacement control of a load-driven problem: past its limit load).
+  enum class Method { Cylindrical, RelativeDisplacement, Displacement } method = Method::Cylindrical;
+  int from_node = -1, to_node = -1;  ///< relative displacement: the grid nodes; displacement: to_node
   int component = 0;                 ///< relative displacement: the component
   int max_steps = 100;              ///< the run stops after this many steps
   double initial_increment = 0.05;  ///< the first step's load factor (load control); its |du| is the first arc
