@@ -175,7 +175,9 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
   if (arc) dtau = 0.0;  // (the step is made at lambda_n; Newton moves it)
   const double lambda = control.load_factor(tau), lambda_end = control.load_factor(tau + dtau);
   try {  // (a distributed run: on this rank's points)
-    step = std::make_unique<LoadStep<dim>>(model, lambda_end, lambda_end - lambda);
+    // (quasi-static: dtau itself, not (tau + dtau) - tau, which differs from it in the last bits)
+    const double dlambda = model.time.dynamic() ? lambda_end - lambda : dtau;
+    step = std::make_unique<LoadStep<dim>>(model, lambda_end, dlambda);
   } catch (const std::out_of_range& e) {  // points left the grid: no cut can help
     throw SolverError(model.time.dynamic()
                           ? fmt::format("time step {} (t = {:.6g}): {}", number, tau, e.what())
@@ -237,6 +239,122 @@ void offer_grid_fields(StepInfo& info, const Model<dim>& model, const LoadStep<d
 
 }  // namespace
 
+namespace {
+
+/// Where a run stands between its steps (what a checkpoint records, DriverState).
+/// tau: the load factor, or a dynamic run's time; dtau its next increment, or the next arc.
+struct Progress {
+  double tau = 0.0, dtau = 0.0;
+  double peak_kinetic = 0.0, peak_lambda = 0.0;
+  std::vector<double> previous;  ///< arc-length: the last increment at the grid nodes
+  double arc_nominal = 0.0;      ///< arc-length: the first arc
+
+  Progress(const DriverState& start, const StepControl& control)
+      : tau(control.time.dynamic() ? start.time : start.load_factor),
+        dtau(start.next_increment > 0.0 ? start.next_increment : control.nominal),
+        peak_kinetic(start.peak_kinetic_energy),
+        peak_lambda(start.peak_load_factor),
+        previous(start.arc_previous),
+        arc_nominal(start.arc_nominal) {}
+
+  /// A dynamic step's time, kinetic energy and whether it ends at rest: little kinetic
+  /// energy, and not at the turning point of an oscillation (where the velocity vanishes
+  /// but the acceleration does not).
+  template <int dim>
+  void record_dynamics(const Model<dim>& model, StepInfo& info) {
+    info.time = tau;
+    info.time_increment = dtau;
+    info.kinetic_energy = kinetic_energy(model);
+    peak_kinetic = std::max(peak_kinetic, info.kinetic_energy);
+    const double rest = model.time.stop_at_rest;
+    info.at_rest = rest > 0.0 && peak_kinetic > 0.0 && info.kinetic_energy <= rest * peak_kinetic &&
+                   info.inertia_ratio <= std::sqrt(rest);
+  }
+
+  /// The next increment: back towards the nominal after a cut; arc-length: the first
+  /// step's length is the first arc, later arcs follow Newton's effort.
+  void next(const StepControl& control, const DofMap& dofs, const Vector& du, bool arc_step, const StepInfo& info) {
+    const ArcLengthSettings& arc = control.arc;
+    if (!arc.enabled) {
+      if (info.cuts == 0) dtau = std::min(2.0 * dtau, control.nominal);
+      return;
+    }
+    const Vector at_nodes = dofs.to_grid_all(du);
+    previous.assign(at_nodes.data(), at_nodes.data() + at_nodes.size());
+    if (arc_step) {
+      if (info.cuts == 0) dtau = next_arc(arc, dtau, info.phases.iterations, arc_nominal);
+      return;
+    }
+    const bool linear = arc.method != ArcLengthSettings::Method::Cylindrical;
+    double length = du.norm();
+    if (linear) {
+      length = 0.0;
+      for (const auto& [dof, weight] : relative_displacement(arc, dofs)) length += weight * du[dof];
+    }
+    if (!(length > 0.0))
+      throw UserError(fmt::format(
+          "[arc_length]: the controlled {} did not grow in the first step ({:.3g}); choose arc_length.from and .to "
+          "across the zone that opens (or arc_length.at and .component where the load pushes)",
+          linear ? "relative displacement" : "displacement", length));
+    dtau = arc_nominal = length;
+  }
+
+  DriverState state(const StepControl& control, const RunSummary& summary, const CarriedOrdering& ordering) const {
+    const bool dynamic = control.time.dynamic();
+    return DriverState{.load_factor = control.load_factor(tau),
+                       .next_increment = dtau,
+                       .time = dynamic ? tau : 0.0,
+                       .peak_kinetic_energy = peak_kinetic,
+                       .arc_previous = previous,
+                       .arc_nominal = arc_nominal,
+                       .peak_load_factor = peak_lambda,
+                       .summary = summary,
+                       .ordering = ordering};
+  }
+};
+
+/// The step from progress.tau, its increment halved where it fails (max_cuts times, then
+/// SolverError); returns the converged du, with the step kept in `step`.
+template <int dim>
+Vector solve_with_cuts(Model<dim>& model, const NewtonSettings& settings, const StepControl& control,
+                       Progress& progress, const std::vector<PostStepStage<dim>*>& stages, NewtonSolver& newton,
+                       std::unique_ptr<LoadStep<dim>>& step, StepInfo& info, RunSummary& summary,
+                       NewtonSolver::ArcLength* arc) {
+  const bool dynamic = model.time.dynamic();
+  // The staggered iteration writes kappa_bar into the state the step starts from: a cut
+  // step starts again from the converged state's.
+  const std::vector<double> committed =
+      NonlocalPlasticStrain<dim>::applies(model) ? model.points.state : std::vector<double>{};
+  const bool initial = dynamic && summary.steps == 0 && progress.tau == 0.0;
+  while (true) {
+    static_cast<NewtonLog&>(info) = NewtonLog{};
+    info.staggers = 0;
+    try {
+      if (arc) {
+        arc->length = progress.dtau;
+        arc->linear.clear();
+        if (settings.arc_length.method != ArcLengthSettings::Method::Cylindrical)
+          arc->linear = {{-1, 0.0}};  // (made once the step's equations are numbered: attempt_step)
+      }
+      return attempt_step(model, settings, control, progress.tau, progress.dtau, initial, stages, newton, step, info,
+                          summary.steps + 1, arc);
+    } catch (const StepFailure& f) {
+      newton.forget();
+      if (info.cuts == settings.max_cuts)
+        throw SolverError(fmt::format("{} step {} failed from {} {:.6g} with increment {:.3g} after {} cut(s): {}",
+                                      dynamic ? "time" : "load", summary.steps + 1, dynamic ? "time" : "load factor",
+                                      progress.tau, progress.dtau, info.cuts, f.reason));
+      if (!committed.empty()) model.points.state = committed;
+      info.cut_reasons.push_back(fmt::format("increment {:.3g}: {}", progress.dtau, f.reason));
+      progress.dtau *= 0.5;
+      ++info.cuts;
+      ++summary.cuts;
+    }
+  }
+}
+
+}  // namespace
+
 template <int dim>
 RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
                             const std::vector<PostStepStage<dim>*>& stages, const StepObserver<dim>& observer,
@@ -247,111 +365,41 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   const StepControl control(model.time, settings);
   const bool dynamic = model.time.dynamic(), arc_length = settings.arc_length.enabled;
   if (arc_length && ranks::distributed()) throw UserError("[arc_length] runs on one rank");
-  // tau: the load factor, or a dynamic run's time; dtau its increment, or the arc's length
-  double tau = dynamic ? start.time : start.load_factor;
-  double dtau = start.next_increment > 0.0 ? start.next_increment : control.nominal;
-  double peak_kinetic = start.peak_kinetic_energy, peak_lambda = start.peak_load_factor;
-  std::vector<double> previous = start.arc_previous;  // arc-length: the last increment at the grid nodes
-  double arc_nominal = start.arc_nominal;
+  Progress progress(start, control);
+  double& tau = progress.tau;
   NewtonSolver newton;  // across the steps: an unchanged pattern keeps its analysis, a changed one its ordering
   newton.set_carried(start.ordering);
-  while (arc_length ? !control.arc_done(summary.steps, tau, peak_lambda) : !control.reached(tau)) {
+  const auto done = [&] { return arc_length ? control.arc_done(summary.steps, tau, progress.peak_lambda) : control.reached(tau); };
+  while (!done()) {
     // Arc-length: the first step is load-controlled; its |du| is the first arc.
-    const bool arc_step = arc_length && !previous.empty();
-    if (!arc_step) dtau = std::min(dtau, control.end - tau);
+    const bool arc_step = arc_length && !progress.previous.empty();
+    if (!arc_step) progress.dtau = std::min(progress.dtau, control.end - tau);
     StepInfo info;
     std::unique_ptr<LoadStep<dim>> step;  // kept for the grid fields the observer may ask for
-    Vector du;
     NewtonSolver::ArcLength arc;
-    if (arc_step) {
-      arc.lambda_n = tau;
-      arc.previous = [&](const Vector& v) {
-        return step->dofs().to_grid_all(v).dot(Eigen::Map<const Vector>(previous.data(), previous.size()));
-      };
-    }
-    const auto opening = [&](const Vector& v) {  // indirect displacement control's c . v
-      double sum = 0.0;
-      for (const auto& [dof, weight] : relative_displacement(settings.arc_length, step->dofs())) sum += weight * v[dof];
-      return sum;
+    arc.lambda_n = tau;
+    arc.previous = [&](const Vector& v) {
+      const auto& previous = progress.previous;
+      return step->dofs().to_grid_all(v).dot(Eigen::Map<const Vector>(previous.data(), previous.size()));
     };
     const auto t0 = Clock::now();
-    // The staggered iteration writes kappa_bar into the state the step starts from: a cut
-    // step starts again from the converged state's.
-    const std::vector<double> committed =
-        NonlocalPlasticStrain<dim>::applies(model) ? model.points.state : std::vector<double>{};
-    const bool initial = dynamic && summary.steps == 0 && tau == 0.0;
-    while (true) {
-      static_cast<NewtonLog&>(info) = NewtonLog{};
-      info.staggers = 0;
-      try {
-        arc.length = dtau;
-        arc.linear.clear();
-        if (arc_step && settings.arc_length.method != ArcLengthSettings::Method::Cylindrical)
-          arc.linear = {{-1, 0.0}};  // (made once the step's equations are numbered: attempt_step)
-        du = attempt_step(model, settings, control, tau, dtau, initial, stages, newton, step, info, summary.steps + 1,
-                          arc_step ? &arc : nullptr);
-        break;
-      } catch (const StepFailure& f) {
-        newton.forget();
-        if (info.cuts == settings.max_cuts)
-          throw SolverError(fmt::format("{} step {} failed from {} {:.6g} with increment {:.3g} after {} cut(s): {}",
-                                        dynamic ? "time" : "load", summary.steps + 1,
-                                        dynamic ? "time" : "load factor", tau, dtau, info.cuts, f.reason));
-        if (!committed.empty()) model.points.state = committed;
-        info.cut_reasons.push_back(fmt::format("increment {:.3g}: {}", dtau, f.reason));
-        dtau *= 0.5;
-        ++info.cuts;
-        ++summary.cuts;
-      }
-    }
-    const double advanced = arc_step ? arc.dlambda : dtau;
+    const Vector du = solve_with_cuts(model, settings, control, progress, stages, newton, step, info, summary,
+                                      arc_step ? &arc : nullptr);
+    const double advanced = arc_step ? arc.dlambda : progress.dtau;
     tau += advanced;
     if (control.reached(tau) && !arc_step) tau = control.end;
     info.step = ++summary.steps;
     info.load_factor = control.load_factor(tau);
-    info.increment = dynamic ? control.load_factor(tau) - control.load_factor(tau - dtau) : advanced;
-    if (dynamic) {
-      info.time = tau;
-      info.time_increment = dtau;
-      info.kinetic_energy = kinetic_energy(model);
-      peak_kinetic = std::max(peak_kinetic, info.kinetic_energy);
-      // At rest: little kinetic energy, and not at the turning point of an oscillation
-      // (where the velocity vanishes but the acceleration does not).
-      const double rest = model.time.stop_at_rest;
-      info.at_rest = rest > 0.0 && peak_kinetic > 0.0 && info.kinetic_energy <= rest * peak_kinetic &&
-                     info.inertia_ratio <= std::sqrt(rest);
-    }
+    info.increment = dynamic ? control.load_factor(tau) - control.load_factor(tau - progress.dtau) : advanced;
+    if (dynamic) progress.record_dynamics(model, info);
     info.seconds = seconds_since(t0);
-    peak_lambda = std::max(peak_lambda, info.load_factor);
-    info.last = arc_length ? control.arc_done(summary.steps, tau, peak_lambda) : tau >= control.end || info.at_rest;
+    progress.peak_lambda = std::max(progress.peak_lambda, info.load_factor);
+    info.last = done() || info.at_rest;
     std::optional<typename LoadStep<dim>::GridFields> grid;
     offer_grid_fields(info, model, *step, du, grid);
     summary.total_iterations += info.phases.iterations;
-    if (arc_length) {  // the next arc: the first step's |du|, then as Newton's effort says
-      const Vector at_nodes = step->dofs().to_grid_all(du);
-      previous.assign(at_nodes.data(), at_nodes.data() + at_nodes.size());
-      if (!arc_step) {
-        const bool relative = settings.arc_length.method != ArcLengthSettings::Method::Cylindrical;
-        dtau = arc_nominal = relative ? opening(du) : du.norm();
-        if (!(dtau > 0.0))
-          throw UserError(fmt::format(
-              "[arc_length]: the controlled {} did not grow in the first step ({:.3g}); choose arc_length.from and "
-              ".to across the zone that opens (or arc_length.at and .component where the load pushes)",
-              relative ? "relative displacement" : "displacement", dtau));
-      }
-      else if (info.cuts == 0) dtau = next_arc(settings.arc_length, dtau, info.phases.iterations, arc_nominal);
-    } else if (info.cuts == 0) {
-      dtau = std::min(2.0 * dtau, control.nominal);  // grow back after a cut
-    }
-    info.after = DriverState{.load_factor = dynamic ? info.load_factor : tau,
-                             .next_increment = dtau,
-                             .time = dynamic ? tau : 0.0,
-                             .peak_kinetic_energy = peak_kinetic,
-                             .arc_previous = previous,
-                             .arc_nominal = arc_nominal,
-                             .peak_load_factor = peak_lambda,
-                             .summary = summary,
-                             .ordering = newton.carried()};
+    progress.next(control, step->dofs(), du, arc_step, info);
+    info.after = progress.state(control, summary, newton.carried());
     const auto t_stages = Clock::now();
     for (PostStepStage<dim>* stage : stages) stage->after_step(model, info);
     info.stage_seconds = seconds_since(t_stages);
