@@ -161,6 +161,8 @@ TEST_F(MpmCli, DynamicCasesWriteTheTimeAndAreChecked) {
        "time.ramp_time: missing key; expected a ramp time > 0 where a displacement other than 0 is prescribed"},
       {example("vertical_cut_dynamic_2d.toml") + " --set time.dt=2 --set time.end_time=1",
        "time.dt (from --set): expected a time step no longer than end_time = 1"},
+      {example("column_2d.toml") + " --set bodies[0].velocity=[1.0,0.0]",
+       "bodies[0].velocity (from --set): expected no initial velocity in a quasi-static case"},
   };
   for (const auto& [args, message] : refused) {
     EXPECT_EQ(run(args + " --out " + (dir / "refused").string()), 2) << args;

@@ -177,7 +177,9 @@ const std::vector<SectionSpec>& mpm_sections() {
           {.name = "points_per_cell", .type = K::Integer, .default_value = 2LL, .min = 1.0, .max = 8.0,
            .allowed = "an integer from 1 to 8 (points per cell and direction)",
            .doc = "points per cell and direction, at sub-cell centres (volume = sub-cell volume), kept where they fall "
-                  "inside the body"}}},
+                  "inside the body"},
+          {.name = "velocity", .type = K::Other, .type_text = dimvec, .default_text = "zero",
+           .doc = "a dynamic case's initial velocity of the body's points (an impact, a thrown block; [time])"}}},
         {"mpm", SectionKind::Section, false, "options of the MPM itself",
          {{.name = "fbar", .type = K::Boolean, .default_value = false,
            .doc = "F-bar against volumetric locking (Coombs et al. 2018): the points of a cell share its volume change; finite-strain laws only; non-symmetric tangent"},

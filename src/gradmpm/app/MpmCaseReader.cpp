@@ -265,6 +265,7 @@ struct Fill {
   typename Grid<dim>::Index first, last;
   int ppc, material;
   std::function<bool(const Vec<dim>&)> inside;
+  Vec<dim> velocity;
 };
 
 /// This rank's points (the cells of the cut), their ids in the order of every point.
@@ -277,7 +278,8 @@ void make_rank_points(Model<dim>& m, const std::vector<Fill<dim>>& fills, const 
   m.points.reserve(static_cast<std::size_t>(mine));
   m.point_ids.reserve(static_cast<std::size_t>(mine));
   int id = 0;
-  for (const Fill<dim>& f : fills)
+  for (const Fill<dim>& f : fills) {
+    const int before = m.points.size();
     add_regular_points<dim>(m.grid, f.first, f.last, f.ppc, f.inside, f.material, m.materials[f.material]->density(),
                             m.points, [&](const Vec<dim>& x) {
                               const bool owned = m.rank_boxes.owner(cell_corner_key(m.grid, x)) == me;
@@ -285,6 +287,8 @@ void make_rank_points(Model<dim>& m, const std::vector<Fill<dim>>& fills, const 
                               ++id;
                               return owned;
                             });
+    for (int p = before; p < m.points.size(); ++p) m.points.velocity[p] = f.velocity;
+  }
 }
 
 /// [[bodies]]: material points at sub-cell centres inside each body. A distributed run's
@@ -333,6 +337,9 @@ BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names
                                "mass and stiffness would count twice there)",
                                e, fmt::join(x.data(), x.data() + dim, ", ")));
     };
+    const Vec<dim> velocity = cf.has(k + ".velocity") ? vec<dim>(cf, k + ".velocity") : Vec<dim>::Zero();
+    cf.require(!cf.has(k + ".velocity") || cf.has_section("time"), k + ".velocity",
+               "no initial velocity in a quasi-static case (a dynamic one has [time])");
     int added = 0;
     if (rank_points_only) {
       for_each_regular_point<dim>(m.grid, first, last, ppc, shape.inside, [&](const Vec<dim>& x) {
@@ -340,12 +347,15 @@ BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names
         ++added;
         ++per_key[cell_corner_key(m.grid, x)];
       });
-      fills.push_back({first, last, ppc, mat_id, shape.inside});
+      fills.push_back({first, last, ppc, mat_id, shape.inside, velocity});
     } else {
       const int before = m.points.size();
       added = add_regular_points<dim>(m.grid, first, last, ppc, shape.inside, mat_id, m.materials[mat_id]->density(),
                                       m.points);
-      for (int p = before; p < m.points.size(); ++p) not_overlapping(m.points.position[p]);
+      for (int p = before; p < m.points.size(); ++p) {
+        not_overlapping(m.points.position[p]);
+        m.points.velocity[p] = velocity;
+      }
     }
     r.total_points += added;
     if (cf.has(k + ".polygon"))
