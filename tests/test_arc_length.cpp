@@ -9,8 +9,11 @@
 //   A2 on an elastic bar arc-length gives the load-controlled answer (the closed form
 //      F = E eps e^-eps of uniaxial strain) to round-off at every step, and stops at
 //      max_load_factor;
-//   A3 a case with arc-length and rigid boxes, regularisation or [load_steps] is refused
-//      with the key named;
+//   A3 a case with arc-length and rigid boxes or [load_steps] is refused with the key named;
+//   A5 the regularised bar (examples/softening_bar_1d.toml: implicit-gradient softening,
+//      the staggered kappa_bar iteration inside each arc-length step) is traced past its
+//      peak to a residual load, and its force at u = 1.01e-3 and 1.03e-3 is the
+//      load-controlled run's to 0.1 %;
 //   A4 displacement control of a load-driven case (an elastic bar pulled by a point load,
 //      the free end's node controlled) moves that node by the same amount every step and
 //      finds the load factor of the load-controlled answer, u(lambda) = lambda u(1), to 1e-9.
@@ -265,4 +268,54 @@ max_load_factor = 100.0
             << u / u_full << "; largest departure " << worst << "\n";
   EXPECT_EQ(steps, 7);
   EXPECT_LT(worst, 1e-9);
+}
+
+namespace {
+/// The grip's (displacement, force) after every step of the regularised softening bar.
+std::vector<std::pair<double, double>> regularised_bar(bool arc) {
+  CaseFile cf = CaseFile::load(
+      std::string(GRADMPM_SOURCE_DIR) + "/examples/softening_bar_1d.toml",
+      arc ? std::vector<std::string>{"arc_length.method=\"relative-displacement\"", "arc_length.from=[0.3]",
+                                     "arc_length.to=[0.7]", "arc_length.initial_increment=0.01",
+                                     "arc_length.max_steps=400", "arc_length.max_load_factor=1.2",
+                                     "output.vtk_every=0"}
+          : std::vector<std::string>{"output.vtk_every=0"});
+  if (arc) cf.remove_section("load_steps");
+  MpmCase<1> c = read_mpm_case<1>(cf);
+  const double total = c.model.constraints.back().total;
+  std::vector<std::pair<double, double>> curve;
+  run_quasi_static<1>(c.model, c.newton, [&](const Model<1>& m, const StepInfo& info) {
+    curve.emplace_back(total * info.load_factor, grip_force(m, info));
+  });
+  return curve;
+}
+
+/// The force at displacement u, linear between the steps on either side (past the peak).
+double force_at(const std::vector<std::pair<double, double>>& curve, double u) {
+  std::size_t peak = 0;
+  for (std::size_t k = 0; k < curve.size(); ++k)
+    if (curve[k].second > curve[peak].second) peak = k;
+  for (std::size_t k = peak + 1; k < curve.size(); ++k)
+    if (curve[k].first >= u) {
+      const auto [u0, f0] = curve[k - 1];
+      const auto [u1, f1] = curve[k];
+      return f0 + (u - u0) / (u1 - u0) * (f1 - f0);
+    }
+  return std::nan("");
+}
+}  // namespace
+
+TEST(ArcLength, A5TracesTheRegularisedBarPastItsPeak) {
+  const auto load = regularised_bar(false), arc = regularised_bar(true);
+  double peak = 0.0, least = 1e300;
+  for (const auto& [u, f] : arc) peak = std::max(peak, f);
+  for (const auto& [u, f] : arc)
+    if (u > 1.03e-3) least = std::min(least, f);
+  std::cout << "A5 regularised bar, arc-length: " << arc.size() << " steps, peak force " << peak
+            << ", down to " << least << " (u up to " << arc.back().first << ")";
+  for (const double u : {1.01e-3, 1.03e-3})
+    std::cout << "; at u = " << u << ": " << force_at(arc, u) << " (load control " << force_at(load, u) << ")";
+  std::cout << "\n";
+  for (const double u : {1.01e-3, 1.03e-3}) EXPECT_NEAR(force_at(arc, u) / force_at(load, u), 1.0, 1e-3) << u;
+  EXPECT_LT(least, 0.85 * peak);
 }

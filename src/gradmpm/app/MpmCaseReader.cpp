@@ -655,11 +655,9 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   read_time(cf, m);
   NewtonSettings newton = read_newton(cf);
   if (newton.arc_length.enabled) read_arc_nodes(cf, g, newton.arc_length);
-  if (newton.arc_length.enabled) {  // what the arc-length step does not move with the load factor
-    cf.require(m.rigid_boxes.empty(), "arc_length", "no [[rigid_boxes]] with arc-length control (they move with load steps only)");
-    cf.require(!cf.has_section("regularisation"), "arc_length",
-               "no [regularisation] with arc-length control (its staggered iteration runs with load steps only)");
-  }
+  if (newton.arc_length.enabled)  // the boxes are placed for a step's end, which arc-length finds
+    cf.require(m.rigid_boxes.empty(), "arc_length",
+               "no [[rigid_boxes]] with arc-length control (they move with load steps only)");
   GradientSettings gradient = gradient_settings;
   gradient.linear_solver = newton.linear_solver;
   const MpmOutputSettings output = read_output(cf, m, bodies.total_points);

@@ -57,6 +57,31 @@ Vector solve_step(LoadStep<dim>& step, NonlinearProblem& problem, Model<dim>& mo
   }
 }
 
+/// An arc-length step's equilibrium: one arc-length solve, or with regularised plasticity
+/// the staggered iteration of solve_step, each pass an arc-length solve of the whole step
+/// (the same arc from the same state) with kappa_bar frozen at the last pass's.
+template <int dim>
+Vector solve_arc_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& settings, StepInfo& info,
+                      NewtonSolver& newton, NewtonSolver::ArcLength& arc) {
+  newton.start_step();
+  if (!NonlocalPlasticStrain<dim>::applies(model)) return newton.solve_arc_length(step, settings, arc, info);
+  const auto t0 = Clock::now();
+  NonlocalPlasticStrain<dim> nonlocal(model, step.stencils(), settings.linear_solver);
+  if (!model.regularisation.start_from_points) nonlocal.smooth(model.points.state, model.points.state);
+  info.phases.nonlocal += seconds_since(t0);
+  Vector du = newton.solve_arc_length(step, settings, arc, info);
+  for (int k = 1;; ++k) {
+    const auto t1 = Clock::now();
+    const double change = nonlocal.iterate(step.trial_state(), model.points.state);
+    info.phases.nonlocal += seconds_since(t1);
+    ++info.staggers;
+    du = newton.solve_arc_length(step, settings, arc, info);
+    if (change <= model.regularisation.tolerance) return du;
+    if (k == model.regularisation.max_iterations)
+      throw StepFailure{fmt::format("the nonlocal plastic strain did not converge in {} staggered iterations", k)};
+  }
+}
+
 /// Moves the model's points and the stages' per-point arrays as `migration` says.
 template <int dim>
 void apply(const PointMigration& migration, Model<dim>& model, const std::vector<PostStepStage<dim>*>& stages) {
@@ -193,9 +218,8 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
   NonlinearProblem& problem = dynamic ? static_cast<NonlinearProblem&>(*dynamic) : *step;
   Vector du;
   if (arc) {
-    newton.start_step();
     if (!arc->linear.empty()) arc->linear = relative_displacement(settings.arc_length, step->dofs());
-    du = newton.solve_arc_length(*step, settings, *arc, info);
+    du = solve_arc_step(*step, model, settings, info, newton, *arc);
   } else {
     du = solve_step(*step, problem, model, settings, info, newton);
   }
@@ -282,7 +306,9 @@ struct Progress {
     const Vector at_nodes = dofs.to_grid_all(du);
     previous.assign(at_nodes.data(), at_nodes.data() + at_nodes.size());
     if (arc_step) {
-      if (info.cuts == 0) dtau = next_arc(arc, dtau, info.phases.iterations, arc_nominal);
+      // (Newton's effort per solve: regularised plasticity's staggered passes solve again)
+      const int passes = info.staggers + 1;
+      if (info.cuts == 0) dtau = next_arc(arc, dtau, (info.phases.iterations + passes - 1) / passes, arc_nominal);
       return;
     }
     const bool linear = arc.method != ArcLengthSettings::Method::Cylindrical;
