@@ -16,7 +16,13 @@
 //      to rest (stop_at_rest = 1e-8: the kinetic energy 1e-8 of its peak, the inertia and
 //      damping forces 1e-4 of the forces in balance) and its base then carries its weight
 //      to 1e-3 (the guard of the long test of the vertical cut's
-//      collapse to rest, tests/test_collapse_dynamic.cpp).
+//      collapse to rest, tests/test_collapse_dynamic.cpp);
+//   D6 a slender cantilever (L / t = 20, plane strain, nu = 0) set moving by a uniform
+//      transverse velocity vibrates at the Euler-Bernoulli first bending frequency
+//      1.8751^2 sqrt(E I / (rho A L^4)) within 2 % (4 and 8 cells through the thickness,
+//      consistent and lumped mass; the period from the free end's zero crossings over
+//      five periods).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -297,4 +303,67 @@ TEST(Dynamics, D5ADampedColumnComesToRestCarryingItsWeight) {
   EXPECT_LT(t, 5.0);
   EXPECT_LE(kinetic, 1e-8 * peak);
   EXPECT_NEAR(base / weight, 1.0, 1e-3);
+}
+
+namespace {
+
+/// The cantilever x in [0, 1], y in [0, 0.05], clamped at x = 0, `layers` cells through the
+/// thickness; the period of its free end's transverse motion over five periods.
+double cantilever_period(int layers, bool consistent) {
+  const double h = 0.05 / layers;
+  const int last = 4 * static_cast<int>(std::lround(1.0 / h)) * layers - 1;  // the top corner's point
+  CaseFile cf = CaseFile::parse(fmt::format(R"(
+[grid]
+origin = [{0}, {1}]
+cell_size = {2}
+cells = [{3}, {4}]
+[materials.beam]
+model = "linear-elastic"
+young = 1.0e6
+poisson = 0.0
+density = 1000.0
+[[bodies]]
+material = "beam"
+min = [0.0, 0.0]
+max = [1.0, 0.05]
+velocity = [0.0, 1.0e-4]
+[[constraints]]
+min = [{0}, {1}]
+max = [0.0, 0.1]
+fix = ["x", "y"]
+[time]
+dt = 0.04
+end_time = 20.0
+mass = "{5}"
+)",
+                                            -h, -2 * h, h, static_cast<int>(std::lround(1.0 / h)) + 4, layers + 4,
+                                            consistent ? "consistent" : "lumped"),
+                                "cantilever.toml");
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  const double y0 = c.model.points.position[last][1];
+  std::vector<double> crossings;
+  double previous = 0.0, previous_t = 0.0;
+  run_quasi_static<2>(c.model, c.newton, [&](const Model<2>& m, const StepInfo& info) {
+    const double u = m.points.position[last][1] - y0;
+    if (info.step > 1 && previous * u < 0.0)
+      crossings.push_back(previous_t + (info.time - previous_t) * previous / (previous - u));
+    previous = u;
+    previous_t = info.time;
+  });
+  return 2.0 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+}
+
+}  // namespace
+
+TEST(Dynamics, D6CantileverVibratesAtTheEulerBernoulliFrequency) {
+  const double E = 1e6, rho = 1000.0, t = 0.05, I = t * t * t / 12.0;
+  const double omega = 1.875104 * 1.875104 * std::sqrt(E * I / (rho * t));
+  const double T = 2.0 * kPi / omega;
+  for (const auto& [layers, consistent] : std::vector<std::pair<int, bool>>{{4, true}, {8, true}, {8, false}}) {
+    const double period = cantilever_period(layers, consistent);
+    std::cout << "D6 cantilever, " << layers << " cells through the thickness, " << (consistent ? "consistent" : "lumped")
+              << " mass: period " << period << " s against Euler-Bernoulli " << T << " s ("
+              << 100.0 * (period / T - 1.0) << " %)\n";
+    EXPECT_NEAR(period / T, 1.0, 0.02);
+  }
 }
