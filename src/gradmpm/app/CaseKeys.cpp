@@ -140,6 +140,57 @@ const SectionSpec& bar_mpm_section() {
   return s;
 }
 
+namespace {
+/// [arc_length] (mpm_sections).
+SectionSpec arc_length_section() {
+  const std::string dimvec = "[dim numbers]";
+  return SectionSpec{"arc_length", SectionKind::Section, false, "arc-length control instead of load steps: the load factor is found with the displacements, so the path past a limit point and a snap-back are followed (no [load_steps]; docs/mpm.md)",
+         {{.name = "max_steps", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "the run stops after this many steps"},
+          {.name = "method", .type = K::String, .default_value = std::string("cylindrical"), .choices = {"cylindrical", "relative-displacement", "displacement"},
+           .doc = "`cylindrical`: |du| over every dof is the arc (Crisfield 1981); `relative-displacement`: the displacement of node `to` less that of node `from` (component `component`) grows by the arc each step (indirect displacement control, de Borst 1987): follows a snap-back whose displacements retrace their way (a softening zone between unloading parts); `displacement`: the displacement of node `at` grows by the arc each step (displacement control of a load-driven case: past its limit load)"},
+          {.name = "at", .type = K::Other, .type_text = dimvec, .default_text = "none",
+           .doc = "displacement: the point whose nearest grid node's displacement is controlled (inside the body)"},
+          {.name = "from", .type = K::Other, .type_text = dimvec, .default_text = "none",
+           .doc = "relative-displacement: the point whose nearest grid node is `from` (inside the body)"},
+          {.name = "to", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "relative-displacement: see `from`"},
+          {.name = "component", .type = K::String, .default_value = std::string("x"), .choices = {"x", "y", "z"},
+           .doc = "relative-displacement: the component controlled"},
+          {.name = "initial_increment", .type = K::Number, .default_value = ArcLengthSettings{}.initial_increment, .min = 0.0, .max = 1.0, .min_open = true,
+           .doc = "the first step's load factor (load-controlled): its displacement's length is the first arc"},
+          {.name = "max_load_factor", .type = K::Number, .default_value = ArcLengthSettings{}.max_load_factor, .min = 0.0, .max = 1e6, .min_open = true,
+           .doc = "the run stops once the load factor reaches this (and where it has fallen back to 0)"},
+          {.name = "target_iterations", .type = K::Integer, .default_value = static_cast<long long>(ArcLengthSettings{}.target_iterations), .min = 1.0, .max = 100.0,
+           .doc = "the arc grows or shrinks by sqrt(target / Newton iterations of the last step), by 2 at most"}}};
+}
+
+/// [time] (mpm_sections).
+SectionSpec time_section() {
+  return SectionSpec{"time", SectionKind::Section, false, "implicit dynamics: the points' inertia, time steps from t = 0 to end_time (no [load_steps]; docs/dynamics.md)",
+         {{.name = "dt", .type = K::Number, .min = 0.0, .max = 1e12, .min_open = true, .allowed = "a time step > 0",
+           .doc = "the nominal time step (halved where Newton fails, grown back after)"},
+          {.name = "end_time", .type = K::Number, .min = 0.0, .max = 1e15, .min_open = true, .allowed = "a time > 0",
+           .doc = "the run ends at this time"},
+          {.name = "scheme", .type = K::String, .default_value = std::string("newmark"), .choices = {"newmark", "generalised-alpha"},
+           .doc = "`newmark` (beta, gamma; the trapezoidal rule by default: no numerical damping) or `generalised-alpha` (Chung & Hulbert 1993, rho_inf)"},
+          {.name = "beta", .type = K::Number, .default_value = TimeSettings{}.beta, .min = 0.0, .max = 0.5, .min_open = true,
+           .doc = "Newmark's beta (unconditionally stable for 2 beta >= gamma >= 1/2)"},
+          {.name = "gamma", .type = K::Number, .default_value = TimeSettings{}.gamma, .min = 0.5, .max = 1.0,
+           .doc = "Newmark's gamma (above 1/2: damps, first-order accurate)"},
+          {.name = "rho_inf", .type = K::Number, .default_value = TimeSettings{}.rho_inf, .min = 0.0, .max = 1.0,
+           .doc = "generalised-alpha's spectral radius at dt -> infinity: 1 keeps every mode, 0 damps the highest at once"},
+          {.name = "ramp_time", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e15,
+           .doc = "the loads (and prescribed displacements) reach their totals linearly at this time; 0: loads in full from t = 0 (then no displacement but 0 may be prescribed)"},
+          {.name = "mass", .type = K::String, .default_value = std::string("lumped"), .choices = {"lumped", "consistent"},
+           .doc = "`lumped` (m_i = sum_p N_ip m_p) or `consistent` (M_ij = sum_p N_ip N_jp m_p; one rank; singular where a cell has fewer points than nodes)"},
+          {.name = "damping", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e12,
+           .doc = "Rayleigh's mass-proportional damping alpha (1/s): the force alpha M v"},
+          {.name = "pic_fraction", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1.0,
+           .doc = "theta of the points' velocity update (1 - theta) v_Newmark + theta sum_i N_ip v_i: 0 keeps the velocity the grid cannot see (it never moves anything), above 0 lets it decay (a dissipation)"},
+          {.name = "stop_at_rest", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1.0, .max_open = true,
+           .doc = "stop once the kinetic energy has fallen to this fraction of its peak and the inertia and damping forces to its square root of the forces in balance (at rest, not at an oscillation's turning point); 0: run to end_time"}}};
+}
+}  // namespace
+
 const std::vector<SectionSpec>& mpm_sections() {
   static const std::vector<SectionSpec> s = [] {
     std::vector<KeySpec> material_keys = {
@@ -220,46 +271,8 @@ const std::vector<SectionSpec>& mpm_sections() {
           {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}},
         {"load_steps", SectionKind::Section, false, "the load stepping of a quasi-static analysis (required without [time] or [arc_length])",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
-        {"arc_length", SectionKind::Section, false, "arc-length control instead of load steps: the load factor is found with the displacements, so the path past a limit point and a snap-back are followed (no [load_steps]; docs/mpm.md)",
-         {{.name = "max_steps", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "the run stops after this many steps"},
-          {.name = "method", .type = K::String, .default_value = std::string("cylindrical"), .choices = {"cylindrical", "relative-displacement", "displacement"},
-           .doc = "`cylindrical`: |du| over every dof is the arc (Crisfield 1981); `relative-displacement`: the displacement of node `to` less that of node `from` (component `component`) grows by the arc each step (indirect displacement control, de Borst 1987): follows a snap-back whose displacements retrace their way (a softening zone between unloading parts); `displacement`: the displacement of node `at` grows by the arc each step (displacement control of a load-driven case: past its limit load)"},
-          {.name = "at", .type = K::Other, .type_text = dimvec, .default_text = "none",
-           .doc = "displacement: the point whose nearest grid node's displacement is controlled (inside the body)"},
-          {.name = "from", .type = K::Other, .type_text = dimvec, .default_text = "none",
-           .doc = "relative-displacement: the point whose nearest grid node is `from` (inside the body)"},
-          {.name = "to", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "relative-displacement: see `from`"},
-          {.name = "component", .type = K::String, .default_value = std::string("x"), .choices = {"x", "y", "z"},
-           .doc = "relative-displacement: the component controlled"},
-          {.name = "initial_increment", .type = K::Number, .default_value = ArcLengthSettings{}.initial_increment, .min = 0.0, .max = 1.0, .min_open = true,
-           .doc = "the first step's load factor (load-controlled): its displacement's length is the first arc"},
-          {.name = "max_load_factor", .type = K::Number, .default_value = ArcLengthSettings{}.max_load_factor, .min = 0.0, .max = 1e6, .min_open = true,
-           .doc = "the run stops once the load factor reaches this (and where it has fallen back to 0)"},
-          {.name = "target_iterations", .type = K::Integer, .default_value = static_cast<long long>(ArcLengthSettings{}.target_iterations), .min = 1.0, .max = 100.0,
-           .doc = "the arc grows or shrinks by sqrt(target / Newton iterations of the last step), by 2 at most"}}},
-        {"time", SectionKind::Section, false, "implicit dynamics: the points' inertia, time steps from t = 0 to end_time (no [load_steps]; docs/dynamics.md)",
-         {{.name = "dt", .type = K::Number, .min = 0.0, .max = 1e12, .min_open = true, .allowed = "a time step > 0",
-           .doc = "the nominal time step (halved where Newton fails, grown back after)"},
-          {.name = "end_time", .type = K::Number, .min = 0.0, .max = 1e15, .min_open = true, .allowed = "a time > 0",
-           .doc = "the run ends at this time"},
-          {.name = "scheme", .type = K::String, .default_value = std::string("newmark"), .choices = {"newmark", "generalised-alpha"},
-           .doc = "`newmark` (beta, gamma; the trapezoidal rule by default: no numerical damping) or `generalised-alpha` (Chung & Hulbert 1993, rho_inf)"},
-          {.name = "beta", .type = K::Number, .default_value = TimeSettings{}.beta, .min = 0.0, .max = 0.5, .min_open = true,
-           .doc = "Newmark's beta (unconditionally stable for 2 beta >= gamma >= 1/2)"},
-          {.name = "gamma", .type = K::Number, .default_value = TimeSettings{}.gamma, .min = 0.5, .max = 1.0,
-           .doc = "Newmark's gamma (above 1/2: damps, first-order accurate)"},
-          {.name = "rho_inf", .type = K::Number, .default_value = TimeSettings{}.rho_inf, .min = 0.0, .max = 1.0,
-           .doc = "generalised-alpha's spectral radius at dt -> infinity: 1 keeps every mode, 0 damps the highest at once"},
-          {.name = "ramp_time", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e15,
-           .doc = "the loads (and prescribed displacements) reach their totals linearly at this time; 0: loads in full from t = 0 (then no displacement but 0 may be prescribed)"},
-          {.name = "mass", .type = K::String, .default_value = std::string("lumped"), .choices = {"lumped", "consistent"},
-           .doc = "`lumped` (m_i = sum_p N_ip m_p) or `consistent` (M_ij = sum_p N_ip N_jp m_p; one rank; singular where a cell has fewer points than nodes)"},
-          {.name = "damping", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e12,
-           .doc = "Rayleigh's mass-proportional damping alpha (1/s): the force alpha M v"},
-          {.name = "pic_fraction", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1.0,
-           .doc = "theta of the points' velocity update (1 - theta) v_Newmark + theta sum_i N_ip v_i: 0 keeps the velocity the grid cannot see (it never moves anything), above 0 lets it decay (a dissipation)"},
-          {.name = "stop_at_rest", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1.0, .max_open = true,
-           .doc = "stop once the kinetic energy has fallen to this fraction of its peak and the inertia and damping forces to its square root of the forces in balance (at rest, not at an oscillation's turning point); 0: run to end_time"}}},
+        arc_length_section(),
+        time_section(),
         {"nonlinear_solver", SectionKind::Section, false, "Newton-Raphson",
          {{.name = "tolerance", .type = K::Number, .default_value = NewtonSettings{}.tolerance, .min = 0.0, .max = 1.0, .min_open = true,
            .max_open = true, .doc = "on |r_free| / max(|f_ext|, |f_int|)"},
