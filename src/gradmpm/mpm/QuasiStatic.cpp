@@ -173,9 +173,6 @@ double kinetic_energy(const Model<dim>& model) {
   return e;
 }
 
-/// One attempt of the step from tau to tau + dtau: the load step (with the inertia of a
-/// dynamic one) solved and committed to the points, whose ranks are then brought up to
-/// date. Throws StepFailure (the caller cuts dtau), or SolverError where no cut can help.
 /// Indirect displacement control's constraint: u_to - u_from of the component, as
 /// (equation, weight) pairs of the step's numbering.
 std::vector<std::pair<int, double>> relative_displacement(const ArcLengthSettings& arc, const DofMap& dofs) {
@@ -189,7 +186,11 @@ std::vector<std::pair<int, double>> relative_displacement(const ArcLengthSetting
   return {{dofs.dof(arc.to_node, arc.component), 1.0}, {dofs.dof(arc.from_node, arc.component), -1.0}};
 }
 
-/// `arc`: an arc-length step from load factor tau (dtau unused; its increment comes back in arc->dlambda).
+/// One attempt of the step from tau to tau + dtau: the load step (with the inertia of a
+/// dynamic one) solved and committed to the points, whose ranks are then brought up to
+/// date. Throws StepFailure (the caller cuts dtau), or SolverError where no cut can help.
+/// `arc`: an arc-length step from load factor tau (dtau unused; its increment comes back
+/// in arc->dlambda).
 template <int dim>
 Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const StepControl& control, double tau,
                     double dtau, bool initial, const std::vector<PostStepStage<dim>*>& stages, NewtonSolver& newton,
@@ -218,7 +219,9 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
   NonlinearProblem& problem = dynamic ? static_cast<NonlinearProblem&>(*dynamic) : *step;
   Vector du;
   if (arc) {
-    if (!arc->linear.empty()) arc->linear = relative_displacement(settings.arc_length, step->dofs());
+    arc->linear.clear();  // (a linear constraint in this step's equations)
+    if (settings.arc_length.method != ArcLengthSettings::Method::Cylindrical)
+      arc->linear = relative_displacement(settings.arc_length, step->dofs());
     du = solve_arc_step(*step, model, settings, info, newton, *arc);
   } else {
     du = solve_step(*step, problem, model, settings, info, newton);
@@ -356,12 +359,7 @@ Vector solve_with_cuts(Model<dim>& model, const NewtonSettings& settings, const 
     static_cast<NewtonLog&>(info) = NewtonLog{};
     info.staggers = 0;
     try {
-      if (arc) {
-        arc->length = progress.dtau;
-        arc->linear.clear();
-        if (settings.arc_length.method != ArcLengthSettings::Method::Cylindrical)
-          arc->linear = {{-1, 0.0}};  // (made once the step's equations are numbered: attempt_step)
-      }
+      if (arc) arc->length = progress.dtau;
       return attempt_step(model, settings, control, progress.tau, progress.dtau, initial, stages, newton, step, info,
                           summary.steps + 1, arc);
     } catch (const StepFailure& f) {
