@@ -48,7 +48,7 @@ class DynamicStep final : public NonlinearProblem {
   /// acceleration is then the one in balance at t = 0).
   DynamicStep(LoadStep<dim>& step, const Model<dim>& model, double dt, double lambda_n, double lambda_end,
               bool initial, const LinearSolverSettings& linear)
-      : step_(step), model_(model), time_(model.time), dt_(dt) {
+      : step_(step), time_(model.time), dt_(dt) {
     const auto [am, af, beta, gamma] = time_.coefficients();
     am_ = am, af_ = af, beta_ = beta, gamma_ = gamma;
     const DofMap& dofs = step.dofs();
@@ -231,7 +231,6 @@ class DynamicStep final : public NonlinearProblem {
   }
 
   LoadStep<dim>& step_;
-  const Model<dim>& model_;
   const TimeSettings& time_;
   double dt_;
   double am_ = 0.0, af_ = 0.0, beta_ = 0.25, gamma_ = 0.5;
