@@ -3,9 +3,9 @@
 //      with Newmark and generalised-alpha, lumped and consistent mass; a block thrown
 //      ([[bodies]] velocity) flies as x0 + v0 t + g t^2 / 2;
 //   D2 the axial vibration of a fixed-free elastic bar (1D, and as a 2D strip): with the
-//      consistent mass its period is the discrete closed form's (the linear basis's dispersion, the trapezoidal
-//      rule's period elongation) to 1e-6, and the continuum's 4 L / c within 0.5 % at 32
-//      cells per wavelength; with the lumped mass (whose point-grid transfer smooths the
+//      consistent mass its period is the discrete closed form's (the linear basis's
+//      dispersion, the trapezoidal rule's period elongation) to 1e-6, and the continuum's
+//      4 L / c within 0.5 % at 32 cells per wavelength; with the lumped mass (whose point-grid transfer smooths the
 //      velocity) within 0.5 % at 64, converging at second order (figures at 16, 32, 64);
 //   D3 with the consistent mass the trapezoidal rule conserves kinetic + elastic energy to
 //      1e-6 per period over 20 periods (Love & Sulsky 2006: the consistent mass makes the
