@@ -187,7 +187,33 @@ SectionSpec time_section() {
           {.name = "pic_fraction", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1.0,
            .doc = "theta of the points' velocity update (1 - theta) v_Newmark + theta sum_i N_ip v_i: 0 keeps the velocity the grid cannot see (it never moves anything), above 0 lets it decay (a dissipation)"},
           {.name = "stop_at_rest", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1.0, .max_open = true,
-           .doc = "stop once the kinetic energy has fallen to this fraction of its peak and the inertia and damping forces to its square root of the forces in balance (at rest, not at an oscillation's turning point); 0: run to end_time"}}};
+           .doc = "stop once the kinetic energy has fallen to this fraction of its peak and the inertia and damping forces to its square root of the forces in balance (at rest, not at an oscillation's turning point); 0: run to end_time"},
+          {.name = "inertia", .type = K::Boolean, .default_value = true,
+           .doc = "false: time steps without inertia, for consolidation ([pore_pressure] drainage = \"coupled\": the time is the pore water's flow; docs/pore-pressure.md)"}}};
+}
+
+/// [pore_pressure] (mpm_sections).
+SectionSpec pore_pressure_section() {
+  return SectionSpec{"pore_pressure", SectionKind::Section, false, "pore water of a saturated soil: the pore pressure p solved with the displacements (u-p), undrained or with Darcy flow (docs/pore-pressure.md)",
+         {{.name = "drainage", .type = K::String, .default_value = std::string("coupled"), .choices = {"drained", "undrained", "coupled"},
+           .doc = "`drained`: no pore pressure (the laws' stress is the total stress); `undrained`: p without flow (k = 0), in load steps; `coupled`: consolidation, Darcy flow over time steps ([time] with inertia = false)"},
+          {.name = "stabilisation", .type = K::Number, .default_value = PoreSettings{}.stabilisation, .min = 0.0, .max = 1e3,
+           .allowed = "a number from 0 (off) to 1000",
+           .doc = "tau of the polynomial pressure projection tau / (2 G) (q - Pi q)(dp - Pi dp) (Dohrmann & Bochev 2004; White & Borja 2008), Pi the mean over the points sharing a stencil: the equal-order pressure's stabilisation where flow is slow (undrained loading, the first steps)"}}};
+}
+
+/// The pore fluid's keys of every [materials.NAME] section (read with [pore_pressure]).
+std::vector<KeySpec> pore_fluid_keys() {
+  return {{.name = "permeability", .type = K::Number, .default_text = "none", .min = 0.0, .allowed = "a hydraulic conductivity >= 0",
+           .doc = "[pore_pressure] coupled: the hydraulic conductivity k (m/s) of Darcy's q = -k grad h, h = p / gamma_w + z; c_v = k E_oed / gamma_w"},
+          {.name = "porosity", .type = K::Number, .default_text = "none", .min = 0.0, .max = 1.0, .min_open = true, .max_open = true,
+           .allowed = "a porosity in (0, 1)",
+           .doc = "[pore_pressure]: the porosity n_0 at the start (the fluid's storage n / K_f; n follows the volume)"},
+          {.name = "fluid_bulk_modulus", .type = K::Number, .default_value = PoreFluid{}.bulk_modulus, .min = 0.0, .min_open = true,
+           .allowed = "a bulk modulus > 0", .doc = "[pore_pressure]: K_f of the pore fluid (water: 2.2e9 Pa)"},
+          {.name = "fluid_density", .type = K::Number, .default_value = PoreFluid{}.density, .min = 0.0, .min_open = true,
+           .allowed = "a density > 0",
+           .doc = "[pore_pressure]: rho_w; gamma_w = rho_w |g| ([loads] gravity; 9.80665 where there is none); the fluid's weight drives the flow"}};
 }
 }  // namespace
 
@@ -202,6 +228,7 @@ const std::vector<SectionSpec>& mpm_sections() {
         for (const auto& m : material_keys) seen = seen || m.name == k.name;
         if (!seen) material_keys.push_back(k);
       }
+    for (const auto& k : pore_fluid_keys()) material_keys.push_back(k);
     const std::string dimvec = "[dim numbers]";
     return std::vector<SectionSpec>{
         {"grid", SectionKind::Section, true, "the background grid",
@@ -269,6 +296,14 @@ const std::vector<SectionSpec>& mpm_sections() {
          {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
           {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}},
+        {"pressure_constraints", SectionKind::Array, false, "grid nodes whose pore pressure is held (drained faces; [pore_pressure])",
+         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
+           .doc = "node set: a grid face"},
+          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
+           .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
+          {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "see `min`"},
+          {.name = "pressure", .type = K::Number, .default_value = 0.0, .doc = "the pore pressure held (0: a drained face)"}}},
+        pore_pressure_section(),
         {"load_steps", SectionKind::Section, false, "the load stepping of a quasi-static analysis (required without [time] or [arc_length])",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
         arc_length_section(),

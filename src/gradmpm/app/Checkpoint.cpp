@@ -30,7 +30,8 @@ namespace {
 
 constexpr const char* kFormat = "gradmpm checkpoint";
 // 2: the points' layout and ids; a distributed run's point files. 3: the outputs' CRC-32.
-constexpr long long kFormatVersion = 3;
+// 4: the points' velocity, acceleration and pore pressure.
+constexpr long long kFormatVersion = 4;
 constexpr const char* kFile = "checkpoint.h5";
 const std::string kProgram = std::string("gradmpm ") + GRADMPM_VERSION;
 

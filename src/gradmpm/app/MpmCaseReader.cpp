@@ -182,6 +182,9 @@ GridRead<dim> read_grid(const CaseFile& cf) {
   return g;
 }
 
+/// The pore fluid's keys of a [materials.NAME] section (read by read_pore_pressure).
+constexpr const char* kPoreFluidKeys[] = {"permeability", "porosity", "fluid_bulk_modulus", "fluid_density"};
+
 /// [materials.NAME]: each law reads its own keys. Returns the names, in file order.
 template <int dim>
 std::vector<std::string> read_materials(const CaseFile& cf, Model<dim>& m) {
@@ -201,6 +204,7 @@ std::vector<std::string> read_materials(const CaseFile& cf, Model<dim>& m) {
     cf.require(law != nullptr, k + ".model", mpm_section("materials").key("model").expected());
     std::vector<std::string> keys = {"model"};
     for (const auto& key : law->keys) keys.push_back(key.name);
+    for (const char* key : kPoreFluidKeys) keys.push_back(key);
     cf.check_section_keys(k, keys, fmt::format("[{}] with model = \"{}\"", k, model));
     m.materials.push_back(law->make(cf, k, *law));
   }
@@ -532,12 +536,78 @@ void read_time(const CaseFile& cf, Model<dim>& m) {
   time.damping = read_number(cf, t.name, t.key("damping"));
   time.stop_at_rest = read_number(cf, t.name, t.key("stop_at_rest"));
   time.pic_fraction = read_number(cf, t.name, t.key("pic_fraction"));
+  time.inertia = read_boolean(cf, t.name, t.key("inertia"));
   if (time.ramp_time > 0.0) return;
   for (const auto& c : m.constraints)
     cf.require(c.total == 0.0, "time.ramp_time",
                "a ramp time > 0 where a displacement other than 0 is prescribed ([[constraints]])");
   for (const auto& b : m.rigid_boxes)
     cf.require(b.total.isZero(), "time.ramp_time", "a ramp time > 0 where a rigid box moves ([[rigid_boxes]])");
+}
+
+/// [pore_pressure], the materials' fluid keys and [[pressure_constraints]]
+/// (mpm/PorePressure.hpp). Where the case has no pore pressure, none of them may be given:
+/// a permeability without [pore_pressure] would be ignored without a word.
+template <int dim>
+void read_pore_pressure(const CaseFile& cf, const std::vector<std::string>& names, const GridRead<dim>& g,
+                        const NewtonSettings& newton, Model<dim>& m) {
+  const SectionSpec& sec = mpm_section("pore_pressure");
+  PoreSettings& pore = m.pore;
+  if (cf.has_section("pore_pressure")) {
+    const std::string drainage = read_string(cf, sec.name, sec.key("drainage"));
+    pore.drainage = drainage == "coupled"     ? PoreSettings::Drainage::Coupled
+                    : drainage == "undrained" ? PoreSettings::Drainage::Undrained
+                                              : PoreSettings::Drainage::Drained;
+    pore.stabilisation = read_number(cf, sec.name, sec.key("stabilisation"));
+  }
+  const SectionSpec& mat = mpm_section("materials");
+  for (const auto& name : names) {
+    const std::string k = "materials." + name;
+    for (const char* key : kPoreFluidKeys)
+      cf.require(pore.active() || !cf.has(k + "." + key), k + "." + key,
+                 "no pore-fluid key without pore pressure ([pore_pressure] drainage = \"undrained\" or \"coupled\")");
+    PoreFluid f;
+    if (pore.active()) {
+      cf.require(cf.has(k + ".porosity"), k + ".porosity", "a porosity in (0, 1) (the case has pore pressure)");
+      f.porosity = read_number(cf, k, mat.key("porosity"));
+      f.bulk_modulus = read_number(cf, k, mat.key("fluid_bulk_modulus"));
+      f.density = read_number(cf, k, mat.key("fluid_density"));
+    }
+    if (pore.flows()) {
+      cf.require(cf.has(k + ".permeability"), k + ".permeability",
+                 "a hydraulic conductivity k >= 0 (m/s; [pore_pressure] drainage = \"coupled\")");
+      f.conductivity = read_number(cf, k, mat.key("permeability"));
+    } else {
+      cf.require(!cf.has(k + ".permeability"), k + ".permeability",
+                 "no permeability unless [pore_pressure] drainage = \"coupled\" (undrained: no flow)");
+    }
+    pore.fluids.push_back(f);
+  }
+  if (m.gravity.norm() > 0.0) pore.gravity = m.gravity.norm();
+  const double tol = 1e-9 * g.h.minCoeff();
+  for (std::size_t c = 0; c < cf.array_size("pressure_constraints"); ++c) {
+    const std::string k = fmt::format("pressure_constraints[{}]", c);
+    cf.require(pore.active(), k, "[[pressure_constraints]] only with pore pressure ([pore_pressure] drainage = \"undrained\" or \"coupled\")");
+    const Box<dim> sel = constraint_selection(cf, k, g);
+    const double value = read_number(cf, k, mpm_section("pressure_constraints").key("pressure"));
+    int selected = 0;
+    for (int node = 0; node < m.grid.num_nodes(); ++node)
+      if (sel.contains(m.grid.node_position(node), tol)) {
+        pore.constraints.push_back({node, value});
+        ++selected;
+      }
+    cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");
+  }
+  if (!pore.active()) return;
+  cf.require(!m.fbar, "mpm.fbar", "no F-bar with pore pressure (the u-p step has its own stabilisation)");
+  cf.require(!newton.arc_length.enabled, "arc_length", "no arc-length control with pore pressure");
+  cf.require(!ranks::distributed(), "pore_pressure", "a run on one rank (the u-p step is serial)");
+  if (pore.flows())
+    cf.require(m.time.dynamic() && !m.time.inertia, "time",
+               "a [time] section with inertia = false: consolidation advances in time (dt, end_time); dynamic u-p "
+               "is not built");
+  else
+    cf.require(!m.time.inertial(), "time.inertia", "inertia = false with pore pressure (dynamic u-p is not built)");
 }
 
 /// [arc_length] method = "relative-displacement": the grid nodes nearest `from` and `to`.
@@ -658,6 +728,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   if (newton.arc_length.enabled)  // the boxes are placed for a step's end, which arc-length finds
     cf.require(m.rigid_boxes.empty(), "arc_length",
                "no [[rigid_boxes]] with arc-length control (they move with load steps only)");
+  read_pore_pressure(cf, names, g, newton, m);
   GradientSettings gradient = gradient_settings;
   gradient.linear_solver = newton.linear_solver;
   const MpmOutputSettings output = read_output(cf, m, bodies.total_points);

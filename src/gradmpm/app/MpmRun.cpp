@@ -354,6 +354,7 @@ class MpmRun {
     const PointColumns<dim> table(m_, gradient_step_.fields());
     std::vector<std::string> names = vtu_point_columns(table);
     if (dynamic_) names.push_back("velocity");
+    if (m_.pore.active()) names.push_back("pore_pressure");
     const std::vector<VtkField> grid_fields = grid_vtk_fields(m_, info);  // (collective)
     // A distributed run: each rank its piece of each (its points, its cells of the grid),
     // and rank 0 the .pvtu files naming them.
@@ -489,6 +490,7 @@ class MpmRun {
     std::vector<std::string> final_columns = table.with_state(kFinalColumns);
     final_columns.push_back("dissipation");  // last: the columns before it keep their places
     if (dynamic_) final_columns.push_back("velocity");
+    if (m_.pore.active()) final_columns.push_back("pore_pressure");
     write_in_id_order(dir_, options_.pieces, "points_final.csv", table.csv(final_columns));
     if (gradient_step_.fields())
       write_in_id_order(dir_, options_.pieces, "points_gradient.csv", table.csv(kGradientColumns));

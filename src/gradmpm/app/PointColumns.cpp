@@ -57,6 +57,8 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
   add({"material", Kind::Scalar, {"material"}, true, [&P](int p, double* o) { *o = P.material[p]; }});
   add({"velocity", Kind::Vector, suffixed("v", "", false), false,
        [&P](int p, double* o) { put<dim>(P.velocity[p], o); }});  // (a dynamic run's outputs)
+  add({"pore_pressure", Kind::Scalar, {"p"}, false,
+       [&P](int p, double* o) { *o = P.pore_pressure[p]; }});  // (a run with pore pressure)
   if (g) {
     add({"gradient_displacement", Kind::Vector, suffixed("u", "_g", false), false,
          [g](int p, double* o) { put<dim>(g->displacement[p], o); }});

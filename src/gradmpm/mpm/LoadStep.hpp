@@ -152,6 +152,10 @@ class LoadStep final : public ParametrisedProblem {
   const std::vector<double>& reference_increments() const override { return totals_; }
   Eigen::MatrixXd node_coordinates() const override { return dofs_.coordinates(model_.grid); }
   const PointStencils<dim>& stencils() const { return st_; }
+  /// Point p's shape-function gradients at the last internal_force() iterate, in the
+  /// configuration its stress lives in: grad_x N = dN dF^-1 (finite strain), dN at x_n
+  /// (small strain).
+  const std::array<Vec<dim>, Stencil<dim>::capacity>& gradients(int p) const { return grads_[p]; }
   /// The state block of the last internal_force() iterate.
   const std::vector<double>& trial_state() const { return trial_state_; }
   /// The round-off of the internal force: 100 eps_mach E h^(dim-1) sqrt(dofs), the norm of

@@ -12,6 +12,7 @@
 #include "gradmpm/grid/Grid.hpp"
 #include "gradmpm/grid/RankBoxes.hpp"
 #include "gradmpm/materials/Material.hpp"
+#include "gradmpm/mpm/PorePressure.hpp"
 #include "gradmpm/points/MaterialPoints.hpp"
 #include "gradmpm/solver/nonlinear/NewtonSettings.hpp"
 
@@ -83,8 +84,13 @@ struct TimeSettings {
   /// inertia and damping forces below its square root of the forces in balance (not at
   /// an oscillation's turning point); 0: run to end_time. A collapse followed to rest.
   double stop_at_rest = 0.0;
+  /// false: time steps without inertia (consolidation, PoreSettings: the time is the flow's).
+  bool inertia = true;
 
+  /// Whether the run advances in time (dt > 0), with or without inertia.
   bool dynamic() const { return dt > 0.0; }
+  /// Whether the points' inertia is in the equations (mpm/Dynamics.hpp).
+  bool inertial() const { return dt > 0.0 && inertia; }
   double load_factor(double t) const { return ramp_time > 0.0 ? std::min(t / ramp_time, 1.0) : 1.0; }
   /// alpha_m, alpha_f, beta, gamma of the scheme (Newmark: alpha_m = alpha_f = 0).
   std::array<double, 4> coefficients() const {
@@ -113,6 +119,7 @@ struct Model {
   std::vector<RigidBox<dim>> rigid_boxes;
   Regularisation regularisation;
   TimeSettings time;  ///< implicit dynamics ([time]); time.dt = 0: quasi-static
+  PoreSettings pore;  ///< pore water ([pore_pressure]; mpm/Consolidation.hpp); drained by default
   /// A distributed run's points are owned (mpm/PointMigration.hpp): `points` holds this
   /// rank's, and its point k is point point_ids[k] of the whole body (increasing; its row
   /// of points_final.csv). Empty while `points` holds every point in id order (a serial run).

@@ -10,6 +10,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Parallel.hpp"
 #include "gradmpm/core/Timer.hpp"
+#include "gradmpm/mpm/Consolidation.hpp"
 #include "gradmpm/mpm/Dynamics.hpp"
 #include "gradmpm/mpm/ImplicitGradient.hpp"
 #include "gradmpm/mpm/LoadStep.hpp"
@@ -24,6 +25,7 @@ namespace {
 /// the increments carries round-off.
 constexpr double kEndTolerance = 1e-12;
 
+using detail::ConsolidationStep;
 using detail::DynamicStep;
 using detail::LoadStep;
 
@@ -210,13 +212,18 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
                           : fmt::format("load step {} (load factor {:.6g}): {}", number, lambda, e.what()));
   }
   std::unique_ptr<DynamicStep<dim>> dynamic;
-  if (model.time.dynamic())
+  if (model.time.inertial())
     dynamic = std::make_unique<DynamicStep<dim>>(*step, model, dtau, lambda, lambda_end, initial,
                                                  settings.linear_solver);
+  std::unique_ptr<ConsolidationStep<dim>> pore;  // the pore pressure beside du (mpm/Consolidation.hpp)
+  if (model.pore.active())
+    pore = std::make_unique<ConsolidationStep<dim>>(*step, model, model.time.dynamic() ? dtau : 0.0, lambda_end);
   info.phases.pattern = seconds_since(t0);
-  info.dofs = step->dofs().num_global_dofs();
-  info.nonzeros = step->pattern().nonZeros();
-  NonlinearProblem& problem = dynamic ? static_cast<NonlinearProblem&>(*dynamic) : *step;
+  NonlinearProblem& problem = dynamic ? static_cast<NonlinearProblem&>(*dynamic)
+                              : pore  ? static_cast<NonlinearProblem&>(*pore)
+                                      : *step;
+  info.dofs = problem.dofs().num_global_dofs();
+  info.nonzeros = problem.pattern().nonZeros();
   Vector du;
   if (arc) {
     arc->linear.clear();  // (a linear constraint in this step's equations)
@@ -227,6 +234,7 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
     du = solve_step(*step, problem, model, settings, info, newton);
   }
   t0 = Clock::now();
+  if (pore) du = pore->commit(model, du);  // the points' p; the displacement part goes on
   step->commit(model, du);
   if (dynamic) {
     dynamic->commit(model, du);
@@ -354,7 +362,7 @@ Vector solve_with_cuts(Model<dim>& model, const NewtonSettings& settings, const 
   // step starts again from the converged state's.
   const std::vector<double> committed =
       NonlocalPlasticStrain<dim>::applies(model) ? model.points.state : std::vector<double>{};
-  const bool initial = dynamic && summary.steps == 0 && progress.tau == 0.0;
+  const bool initial = model.time.inertial() && summary.steps == 0 && progress.tau == 0.0;
   while (true) {
     static_cast<NewtonLog&>(info) = NewtonLog{};
     info.staggers = 0;
@@ -389,6 +397,10 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   const StepControl control(model.time, settings);
   const bool dynamic = model.time.dynamic(), arc_length = settings.arc_length.enabled;
   if (arc_length && ranks::distributed()) throw UserError("[arc_length] runs on one rank");
+  if (model.pore.active() && (model.time.inertial() || arc_length || ranks::distributed() || model.fbar))
+    throw UserError("pore pressure runs on one rank, without inertia, arc-length control or F-bar");
+  if (model.pore.active() && model.pore.fluids.size() != model.materials.size())
+    throw std::logic_error("PoreSettings::fluids needs one fluid per material");
   Progress progress(start, control);
   double& tau = progress.tau;
   NewtonSolver newton;  // across the steps: an unchanged pattern keeps its analysis, a changed one its ordering

@@ -36,6 +36,9 @@ struct MaterialPoints {
   /// quasi-static one.
   std::vector<Vec<dim>> velocity;
   std::vector<Vec<dim>> acceleration;
+  /// The pore pressure p_p (compression positive; mpm/Consolidation.hpp); zero in a
+  /// drained run. The total stress is stress - p I.
+  std::vector<double> pore_pressure;
 
   int size() const { return static_cast<int>(position.size()); }
 
@@ -89,6 +92,7 @@ struct MaterialPoints {
     work.push_back(0.0);
     velocity.push_back(Vec<dim>::Zero());
     acceleration.push_back(Vec<dim>::Zero());
+    pore_pressure.push_back(0.0);
   }
 
  private:
@@ -110,6 +114,7 @@ struct MaterialPoints {
     f("work", p.work...);
     f("velocity", p.velocity...);
     f("acceleration", p.acceleration...);
+    f("pore_pressure", p.pore_pressure...);
   }
 };
 

@@ -12,10 +12,12 @@
 
 namespace gradmpm {
 
-template <int dim>
+/// `max_comp`: the most components per node of the systems it assembles (dim for the
+/// displacements; dim + 1 with the pore pressure, mpm/Consolidation.hpp).
+template <int dim, int max_comp = dim>
 class Assembler {
  public:
-  static constexpr int max_local = Stencil<dim>::capacity * dim;
+  static constexpr int max_local = Stencil<dim>::capacity * max_comp;
   /// add_matrix(): node blocks of a column searched forward before a binary search.
   static constexpr int kLookAhead = 4;
   /// Local matrix of one point: (count*ncomp)^2, stack storage only.

@@ -1,0 +1,194 @@
+// Requirements of the coupled displacement-pressure (u-p) MPM ([pore_pressure];
+// mpm/Consolidation.hpp, docs/pore-pressure.md):
+//   C1 Terzaghi's 1D consolidation (a column of height H drained at its top, loaded by q at
+//      t = 0; 160 cells, dt = 0.001 H^2 / c_v): the isochrones p(z, t) are the series
+//      solution's within 1 % of p_0, and the degree of consolidation, from the pore pressure
+//      and from the settlement (between the undrained and the drained runs'), within 1 % of
+//      U(T_v), at T_v = 0.05, 0.2 and 1;
+//   C2 undrained loading (k = 0): the pore pressure is p_0 = q m_v / (m_v + n / K_f), to
+//      1e-9 in the column's lower half (1e-3 below the top 5 cells: the point load starts a
+//      checkerboard that the pressure projection damps), and the solid carries the rest;
+//   C3 the drained limit: one time step far longer than H^2 / c_v gives the drained run's
+//      settlement (no pore pressure) to 1e-6 and leaves p below 1e-6 p_0;
+//   C4 at finite strain (Hencky, a load of 0.3 E) Newton converges quadratically on the
+//      coupled system: the consistent tangent of the pore pressure on the current volume.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <numbers>
+
+#include "gradmpm/materials/Hencky.hpp"
+#include "gradmpm/materials/LinearElastic.hpp"
+#include "gradmpm/mpm/QuasiStatic.hpp"
+#include "gradmpm/points/Generate.hpp"
+
+using namespace gradmpm;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// The column: H = 1 on n cells of 2 points, fixed and impermeable at x = 0, drained at
+/// x = H, the load q on its top point; E = 1e7, n = 0.4, K_f = 2.2e9, gamma_w = 9806.65 and
+/// the conductivity that makes c_v = k / (gamma_w (m_v + S)) = 1.
+struct Column {
+  static constexpr double H = 1.0, E = 1e7, q = 1e4, porosity = 0.4, Kf = 2.2e9, rho_w = 1000.0;
+  static double storage() { return porosity / Kf; }
+  static double mv() { return 1.0 / E; }
+  static double p0() { return q * mv() / (mv() + storage()); }
+  static double conductivity() { return rho_w * 9.80665 * (mv() + storage()); }
+};
+
+Model<1> column(int n, PoreSettings::Drainage drainage, bool finite = false, double q = Column::q) {
+  const double h = Column::H / n;
+  Model<1> m(Grid<1>(Vec<1>(0.0), Vec<1>(h), {n}));
+  if (finite)
+    m.materials = {std::make_shared<Hencky>(Column::E, 0.0, 0.0)};
+  else
+    m.materials = {std::make_shared<LinearElastic>(Column::E, 0.0, 0.0)};
+  add_regular_points<1>(m.grid, {0}, {n}, 2, [](const Vec<1>&) { return true; }, 0, 0.0, m.points);
+  m.points.force.back()[0] = -q;
+  m.constraints = {{0, 0, 0.0}};
+  m.pore.drainage = drainage;
+  m.pore.fluids = {PoreFluid{drainage == PoreSettings::Drainage::Coupled ? Column::conductivity() : 0.0, Column::Kf,
+                             Column::porosity, Column::rho_w}};
+  m.pore.constraints = {{n, 0.0}};
+  return m;
+}
+
+/// Terzaghi's series: p(z, T) / p_0 with z from the drained face, and U(T).
+double terzaghi_p(double z, double T) {
+  double p = 0.0;
+  for (int k = 0; k < 4000; ++k) {
+    const double M = kPi * (2 * k + 1) / 2.0;
+    p += 2.0 / M * std::sin(M * z / Column::H) * std::exp(-M * M * T);
+  }
+  return p;
+}
+double terzaghi_U(double T) {
+  double u = 1.0;
+  for (int k = 0; k < 4000; ++k) {
+    const double M = kPi * (2 * k + 1) / 2.0;
+    u -= 2.0 / (M * M) * std::exp(-M * M * T);
+  }
+  return u;
+}
+
+/// The column's settlement: its loss of height, sum_p (V_p - v_p) per unit area.
+double top_settlement(const Model<1>& m) {
+  double s = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) s += m.points.original_volume[p] - m.points.volume[p];
+  return s;
+}
+
+/// The settlement of a run in load steps (drained, or undrained: no time).
+double settlement_in_one_step(PoreSettings::Drainage drainage, int n = 40) {
+  Model<1> m = column(n, drainage);
+  m.pore.constraints.clear();  // (undrained: at t = 0+, before any flow)
+  NewtonSettings s;
+  s.load_steps = 1;
+  run_quasi_static<1>(m, s);
+  return top_settlement(m);
+}
+
+}  // namespace
+
+TEST(Consolidation, C1_TerzaghiIsochronesAndDegreeOfConsolidation) {
+  const int n = 160;
+  Model<1> m = column(n, PoreSettings::Drainage::Coupled);
+  m.time.dt = 1e-3;
+  m.time.end_time = 1.0;
+  m.time.inertia = false;
+  const double s_undrained = settlement_in_one_step(PoreSettings::Drainage::Undrained, n);
+  const double s_drained = settlement_in_one_step(PoreSettings::Drainage::Drained, n);
+  const double p0 = Column::p0();
+  std::vector<double> targets = {0.05, 0.2, 1.0};
+  std::size_t next = 0;
+  NewtonSettings s;
+  std::cout << "  T_v     max|p - p_T| / p_0   U_p       U_s       U(T_v)\n";
+  run_quasi_static<1>(m, s, [&](const Model<1>& mm, const StepInfo& info) {
+    if (next == targets.size() || std::abs(info.time - targets[next]) > 1e-9) return;
+    const double T = targets[next++];  // (c_v = 1, H = 1)
+    double error = 0.0, integral = 0.0;
+    for (int p = 0; p < mm.points.size(); ++p) {
+      const double expected = p0 * terzaghi_p(Column::H - mm.points.original_position[p][0], T);
+      error = std::max(error, std::abs(mm.points.pore_pressure[p] - expected) / p0);
+      integral += mm.points.pore_pressure[p] * mm.points.original_volume[p];
+    }
+    const double U_p = 1.0 - integral / (p0 * Column::H);
+    const double U_s = (top_settlement(mm) - s_undrained) / (s_drained - s_undrained);
+    const double U = terzaghi_U(T);
+    std::cout << fmt::format("  {:<6g}  {:<19.2e}  {:<8.5f}  {:<8.5f}  {:.5f}\n", T, error, U_p, U_s, U);
+    EXPECT_LT(error, 0.01) << "T_v = " << T;
+    EXPECT_NEAR(U_p, U, 0.01 * U) << "T_v = " << T;
+    EXPECT_NEAR(U_s, U, 0.01 * U) << "T_v = " << T;
+  });
+  EXPECT_EQ(next, targets.size());
+}
+
+TEST(Consolidation, C2_UndrainedLoadingLeavesTheSolidTheSkeletonsShare) {
+  Model<1> m = column(40, PoreSettings::Drainage::Undrained);
+  m.pore.constraints.clear();  // (undrained: no face drains either)
+  NewtonSettings s;
+  s.load_steps = 1;
+  run_quasi_static<1>(m, s);
+  const double p0 = Column::p0(), h = Column::H / 40;
+  // The point load on one point starts a checkerboard in p (every other point) that the
+  // projection damps by about 3 per cell: measured below the top 5 cells, asserted in the
+  // lower half.
+  double near = 0.0, far = 0.0, far_stress = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    const double X = m.points.original_position[p][0];
+    const double error = std::abs(m.points.pore_pressure[p] - p0) / p0;
+    if (X < Column::H - 5.0 * h) near = std::max(near, error);
+    if (X > Column::H / 2.0) continue;
+    far = std::max(far, error);
+    far_stress = std::max(far_stress, std::abs(m.points.stress[p](0, 0) + (Column::q - p0)) / Column::q);
+  }
+  std::cout << fmt::format(
+      "  |p / p_0 - 1| below the top 5 cells {:.2e}, in the lower half {:.2e}; effective stress off by {:.2e} q\n",
+      near, far, far_stress);
+  EXPECT_LT(far, 1e-9);
+  EXPECT_LT(far_stress, 1e-9);
+  EXPECT_LT(near, 1e-3);
+}
+
+TEST(Consolidation, C3_OneLongTimeStepReachesTheDrainedSettlement) {
+  Model<1> m = column(40, PoreSettings::Drainage::Coupled);
+  m.time.dt = 1e6;
+  m.time.end_time = 1e6;
+  m.time.inertia = false;
+  run_quasi_static<1>(m, NewtonSettings{});
+  const double s_drained = settlement_in_one_step(PoreSettings::Drainage::Drained);
+  double p_max = 0.0;
+  for (double p : m.points.pore_pressure) p_max = std::max(p_max, std::abs(p));
+  std::cout << fmt::format("  settlement {:.9e} (drained {:.9e}); max |p| / p_0 = {:.2e}\n", top_settlement(m),
+                           s_drained, p_max / Column::p0());
+  EXPECT_NEAR(top_settlement(m), s_drained, 1e-6 * s_drained);
+  EXPECT_LT(p_max, 1e-6 * Column::p0());
+}
+
+TEST(Consolidation, C4_FiniteStrainNewtonConvergesQuadratically) {
+  Model<1> m = column(20, PoreSettings::Drainage::Coupled, true, 0.3 * Column::E);
+  m.time.dt = 0.01;
+  m.time.end_time = 0.1;
+  m.time.inertia = false;
+  int checked = 0;
+  NewtonSettings s;
+  s.tolerance = 1e-12;
+  run_quasi_static<1>(m, s, [&](const Model<1>&, const StepInfo& info) {
+    const auto& r = info.residuals;
+    ASSERT_LE(r.size(), 8u) << "step " << info.step;
+    // Quadratic: once below 1e-2, each residual at most ~ the square of the one before.
+    for (std::size_t k = 2; k < r.size(); ++k)
+      if (r[k - 1] < 1e-2 && r[k] > 1e-14) {
+        EXPECT_LT(r[k], 10.0 * r[k - 1] * r[k - 1]) << "step " << info.step << ", iteration " << k;
+        ++checked;
+      }
+  });
+  EXPECT_GT(checked, 0);
+  // Compressed by 0.3 E: the column's final strain is far beyond small strain.
+  EXPECT_GT(top_settlement(m), 0.01);
+}
