@@ -63,6 +63,7 @@ TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
     m.points.force[p] = Vec<2>(p, -p);
     m.points.velocity[p] = Vec<2>(2 * p, p);
     m.points.acceleration[p] = Vec<2>(-p, 3 * p);
+    m.points.pore_pressure[p] = 7.0 * p;
   }
   const std::vector<int> mine = {1, 4, 5, 10};
   const MaterialPoints<2> expected = m.points.subset(mine);
@@ -78,7 +79,7 @@ TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
         if (std::string(name) == other) EXPECT_TRUE(a == b) << name;
     });
   });
-  EXPECT_EQ(arrays, 15);
+  EXPECT_EQ(arrays, 16);
   EXPECT_EQ(m.points.state, expected.state);
 }
 

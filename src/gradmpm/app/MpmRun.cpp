@@ -46,6 +46,14 @@ void write_now(const fs::path& dir, const std::string& name, const std::string& 
 /// The point columns of points_final.csv and tracked_points.csv (state variables appended).
 const std::vector<std::string> kFinalColumns = {"id", "original_position", "position", "stress", "volume", "mass"};
 const std::vector<std::string> kTrackedColumns = {"id", "position", "stress"};
+
+/// tracked_points.csv's columns: kTrackedColumns, the state variables, and p with pore pressure.
+template <int dim>
+std::vector<std::string> tracked_columns(const PointColumns<dim>& table, const Model<dim>& m) {
+  std::vector<std::string> columns = table.with_state(kTrackedColumns);
+  if (m.pore.active()) columns.push_back("pore_pressure");
+  return columns;
+}
 const std::vector<std::string> kGradientColumns = {
     "id", "position", "displacement", "gradient_displacement", "elastic_strain", "gradient_strain", "gradient_stress"};
 
@@ -200,7 +208,7 @@ class MpmRun {
         checkpoints_(options.checkpoints.empty() ? checkpoint_folder_of(dir) : options.checkpoints,
                      checkpoint_folder_of(shown_).string(), output_.checkpoint_every, output_.checkpoint_keep),
         tracked_table_(m_, nullptr),  // no gradient fields: one table serves every step
-        tracked_columns_(tracked_table_.with_state(kTrackedColumns)),
+        tracked_columns_(tracked_columns(tracked_table_, m_)),
         block_u_(m_.node_sets.size(), Vec<dim>::Zero()) {
     if (gradient_step_.enabled()) stages_.push_back(&gradient_step_);
     if (dynamic_) {  // a time column after the step's in every CSV file, kinetic energy in energy.csv
