@@ -252,13 +252,15 @@ TEST_F(CheckpointCli, TheGradientFieldsCarriedAtThePointsContinueBitForBit) {
   }
 }
 
-TEST_F(CheckpointCli, DynamicAndArcLengthRunsContinueBitForBit) {
+TEST_F(CheckpointCli, DynamicArcLengthAndConsolidationRunsContinueBitForBit) {
   // A dynamic run (the points' velocity and acceleration, the time, the peak kinetic
-  // energy) and an arc-length run (the arc, its cap, the last increment at the grid
-  // nodes) restarted from a checkpoint publish the uninterrupted run's outputs.
+  // energy), an arc-length run (the arc, its cap, the last increment at the grid nodes)
+  // and a consolidation run (the points' pore pressure) restarted from a checkpoint
+  // publish the uninterrupted run's outputs.
   const std::vector<std::pair<std::string, std::string>> cases = {
       {example("vertical_cut_dynamic_2d.toml") + " --set time.end_time=0.4", "step_000010"},
-      {example("softening_bar_arclength_1d.toml"), "step_000020"}};
+      {example("softening_bar_arclength_1d.toml"), "step_000020"},
+      {example("consolidation_1d.toml") + " --set time.end_time=0.04", "step_000020"}};
   for (const auto& [what, at] : cases) {
     const std::string args = "run " + what + " -q --set output.checkpoint_every=10 --set output.checkpoint_keep=0";
     ASSERT_EQ(run_gradmpm(args + " --out " + (dir / "whole").string()).code, 0) << what;
