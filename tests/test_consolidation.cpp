@@ -11,7 +11,11 @@
 //   C3 the drained limit: one time step far longer than H^2 / c_v gives the drained run's
 //      settlement (no pore pressure) to 1e-6 and leaves p below 1e-6 p_0;
 //   C4 at finite strain (Hencky, a load of 0.3 E) Newton converges quadratically on the
-//      coupled system: the consistent tangent of the pore pressure on the current volume.
+//      coupled system: the consistent tangent of the pore pressure on the current volume;
+//   C5 Mandel's problem (plane strain, a quarter of the sample, a rigid frictionless plate
+//      on top by node ties, drained at x = a): the pore pressure at the centre follows
+//      Mandel's closed form (Abousleiman et al. 1996) within 2 % of p_0 from T = 0.005 to
+//      0.5, rising above its initial value (the Mandel-Cryer effect) by more than 8 %.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -23,6 +27,7 @@
 #include "gradmpm/materials/LinearElastic.hpp"
 #include "gradmpm/mpm/QuasiStatic.hpp"
 #include "gradmpm/points/Generate.hpp"
+#include "gradmpm/solver/SparsePattern.hpp"
 
 using namespace gradmpm;
 
@@ -191,4 +196,96 @@ TEST(Consolidation, C4_FiniteStrainNewtonConvergesQuadratically) {
   EXPECT_GT(checked, 0);
   // Compressed by 0.3 E: the column's final strain is far beyond small strain.
   EXPECT_GT(top_settlement(m), 0.01);
+}
+
+namespace {
+
+/// Mandel's problem: a sample of half-width a between rigid frictionless plates loaded by
+/// 2F (per unit depth) at t = 0, drained at its sides. With Biot's coefficient 1 and
+/// incompressible grains (Abousleiman, Cheng, Cui, Detournay & Roegiers 1996, eq. 21-22):
+/// p(x, t) = 2 F B (1 + nu_u) / (3 a) sum_n sin a_n / (a_n - sin a_n cos a_n)
+///           (cos(a_n x / a) - cos a_n) exp(-a_n^2 c t / a^2),
+/// tan a_n = (1 - nu) / (nu_u - nu) a_n, c = 2 kappa B^2 G (1 - nu)(1 + nu_u)^2 / (9 (1 - nu_u)(nu_u - nu)).
+struct Mandel {
+  double E = 1e7, nu = 0.2, porosity = 0.4, Kf = 2.2e9, k = 1e-4, gamma_w = 1000.0 * 9.80665, a = 1.0, F = 1e4;
+  double G, B, nu_u, c;
+  std::vector<double> roots;
+  Mandel() {
+    G = E / (2.0 * (1.0 + nu));
+    const double K = E / (3.0 * (1.0 - 2.0 * nu)), M = Kf / porosity;
+    B = M / (K + M);
+    nu_u = (3.0 * nu + B * (1.0 - 2.0 * nu)) / (3.0 - B * (1.0 - 2.0 * nu));
+    c = 2.0 * (k / gamma_w) * B * B * G * (1.0 - nu) * (1.0 + nu_u) * (1.0 + nu_u) / (9.0 * (1.0 - nu_u) * (nu_u - nu));
+    const double r = (1.0 - nu) / (nu_u - nu);
+    for (int i = 1; i <= 400; ++i) {  // one root in ((i - 1) pi, (i - 1/2) pi)
+      double lo = (i - 1) * kPi + 1e-12, hi = (i - 0.5) * kPi - 1e-12;
+      for (int it = 0; it < 200; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (std::tan(mid) - r * mid < 0.0 ? lo : hi) = mid;
+      }
+      roots.push_back(0.5 * (lo + hi));
+    }
+  }
+  double p0() const { return F * B * (1.0 + nu_u) / (3.0 * a); }
+  double p(double x, double t) const {
+    double sum = 0.0;
+    for (double an : roots)
+      sum += std::sin(an) / (an - std::sin(an) * std::cos(an)) * (std::cos(an * x / a) - std::cos(an)) *
+             std::exp(-an * an * c * t / (a * a));
+    return 2.0 * p0() * sum;
+  }
+};
+
+}  // namespace
+
+TEST(Consolidation, C5_MandelsProblemShowsTheMandelCryerEffect) {
+  const Mandel mandel;
+  const int n = 20;
+  const double h = mandel.a / n;
+  // The sample is 2a tall (Mandel's solution does not depend on its height): the load
+  // reaches the plate through the top row of points, a quarter of it through the node
+  // row below the plate, and that disturbs p within about a of the plate (at T = 0.05,
+  // 1.042 p_0 under the plate, 1.103 at the centre of a sample 2a wide and a tall).
+  const int rows = 2 * n;
+  Model<2> m(Grid<2>(Vec<2>(0.0, 0.0), Vec<2>(h, h), {n, rows}));
+  m.materials = {std::make_shared<LinearElastic>(mandel.E, mandel.nu, 0.0)};
+  add_regular_points<2>(m.grid, {0, 0}, {n, rows}, 2, [](const Vec<2>&) { return true; }, 0, 0.0, m.points);
+  for (int p = 0; p < m.points.size(); ++p)  // F on the top row of points
+    if (m.points.position[p][1] > rows * h - h / 2) m.points.force[p][1] = -mandel.F / (2 * n);
+  for (int node = 0; node < m.grid.num_nodes(); ++node) {
+    const auto ijk = m.grid.node_ijk(node);
+    if (ijk[0] == 0) m.constraints.push_back({node, 0, 0.0});  // symmetry x = 0
+    if (ijk[1] == 0) m.constraints.push_back({node, 1, 0.0});  // symmetry y = 0
+    if (ijk[0] == n) m.pore.constraints.push_back({node, 0.0});  // drained side
+    if (ijk[1] == rows && ijk[0] < n)                             // the plate
+      m.ties.push_back({node, m.grid.node_index({ijk[0] + 1, rows}), 1, 1e4 * mandel.E});
+  }
+  m.pore.drainage = PoreSettings::Drainage::Coupled;
+  m.pore.fluids = {PoreFluid{mandel.k, mandel.Kf, mandel.porosity, 1000.0}};
+  const double t_ref = mandel.a * mandel.a / mandel.c;  // T = c t / a^2
+  m.time.dt = 0.005 * t_ref;
+  m.time.end_time = 0.5 * t_ref;
+  m.time.inertia = false;
+  const double p0 = mandel.p0();
+  double worst = 0.0, peak = 0.0;
+  std::cout << "  T       p(centre) / p_0   Mandel\n";
+  run_quasi_static<2>(m, NewtonSettings{}, [&](const Model<2>& mm, const StepInfo& info) {
+    // the centre: the points of the first column (x = h / 4) in the lower quarter, their mean
+    double sum = 0.0, x = 0.0;
+    int count = 0;
+    for (int p = 0; p < mm.points.size(); ++p)
+      if (mm.points.original_position[p][0] < h / 2 && mm.points.original_position[p][1] < mandel.a / 2) {
+        sum += mm.points.pore_pressure[p];
+        x += mm.points.position[p][0];
+        ++count;
+      }
+    const double centre = sum / count / p0, exact = mandel.p(x / count, info.time) / p0;
+    worst = std::max(worst, std::abs(centre - exact));
+    peak = std::max(peak, centre);
+    if (info.step == 1 || info.step % 10 == 0)
+      std::cout << fmt::format("  {:<6.3f}  {:<16.4f}  {:.4f}\n", info.time / t_ref, centre, exact);
+  });
+  std::cout << fmt::format("  largest error {:.4f} p_0; peak p / p_0 = {:.4f}\n", worst, peak);
+  EXPECT_LT(worst, 0.02);
+  EXPECT_GT(peak, 1.08);
 }

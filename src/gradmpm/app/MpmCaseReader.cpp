@@ -462,6 +462,44 @@ void read_constraints(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m)
   }
 }
 
+/// [[ties]]: every node of the set tied to its neighbour along each grid direction in the
+/// set, in each component listed.
+template <int dim>
+void read_ties(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
+  const double tol = 1e-9 * g.h.minCoeff();
+  for (std::size_t c = 0; c < cf.array_size("ties"); ++c) {
+    const std::string k = fmt::format("ties[{}]", c);
+    cf.require(!ranks::distributed(), k, "a run on one rank ([[ties]] are serial)");
+    const Box<dim> sel = constraint_selection(cf, k, g);
+    std::vector<int> comps;
+    for (const auto& f : cf.string_list(k + ".components")) {
+      int axis = -1;
+      for (int d = 0; d < dim; ++d)
+        if (f == kAxes[d]) axis = d;
+      cf.require(axis >= 0, k + ".components",
+                 dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
+      comps.push_back(axis);
+    }
+    cf.require(!comps.empty(), k + ".components", "at least one component to tie");
+    const double stiffness = read_number(cf, k, mpm_section("ties").key("penalty")) * stiffest_young(m.materials) *
+                             std::pow(g.h.minCoeff(), dim - 2);
+    int pairs = 0;
+    for (int node = 0; node < m.grid.num_nodes(); ++node) {
+      if (!sel.contains(m.grid.node_position(node), tol)) continue;
+      const auto ijk = m.grid.node_ijk(node);
+      for (int d = 0; d < dim; ++d) {
+        auto next = ijk;
+        if (++next[d] > g.n[d]) continue;
+        const int other = m.grid.node_index(next);
+        if (!sel.contains(m.grid.node_position(other), tol)) continue;
+        for (int comp : comps) m.ties.push_back({node, other, comp, stiffness});
+        ++pairs;
+      }
+    }
+    cf.require(pairs > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least two neighbouring grid nodes");
+  }
+}
+
 /// [[rigid_boxes]] (mpm/RigidContact.hpp): none may overlap a point's domain at the start.
 template <int dim>
 void read_rigid_boxes(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
@@ -721,6 +759,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
   read_constraints(cf, g, m);
   read_rigid_boxes(cf, g, m);
+  read_ties(cf, g, m);
   read_point_loads(cf, g, m);
   read_time(cf, m);
   NewtonSettings newton = read_newton(cf);

@@ -77,6 +77,9 @@ class LoadStep final : public ParametrisedProblem {
     }
     // (a distributed run's ranks know the constrained nodes of their own and ghost rows)
     if (split_) ranks::max(&largest_increment_, 1);
+    for (const NodeTie& t : m.ties)  // (a tie to a node no point reaches holds nothing)
+      if (dofs_.active(t.a) && dofs_.active(t.b)) active_ties_.push_back(t);
+    if (split_ && !active_ties_.empty()) throw std::logic_error("[[ties]] run on one rank");
     if (fbar_) {
       all_cells_.resize(fbar_->members().size());
       for (std::size_t c = 0; c < all_cells_.size(); ++c) all_cells_[c] = static_cast<int>(c);
@@ -244,6 +247,12 @@ class LoadStep final : public ParametrisedProblem {
         for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
     });
     if (contact_) contact_->add_force(du, f_int);
+    for (const NodeTie& t : active_ties_) {
+      const int a = dofs_.dof(t.a, t.component), b = dofs_.dof(t.b, t.component);
+      const double f = t.stiffness * (du[a] - du[b]);
+      f_int[a] += f;
+      f_int[b] -= f;
+    }
     if (ghost_) ghost_->add_force(dofs_, du, f_int);  // this rank's faces (GhostFaces), as in K
     halo_.sum(f_int);  // the ranks' shares, in this rank's own and ghost rows
   }
@@ -301,6 +310,13 @@ class LoadStep final : public ParametrisedProblem {
     if (fbar_) fbar_->add_coupling(K, all_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
     if (ghost_) ghost_->add_matrix(dofs_, K);  // this rank's faces
     if (contact_) contact_->add_matrix(K);
+    for (const NodeTie& t : active_ties_) {
+      const int a = dofs_.dof(t.a, t.component), b = dofs_.dof(t.b, t.component);
+      K.valuePtr()[pattern_offset(K, a, a)] += t.stiffness;
+      K.valuePtr()[pattern_offset(K, b, b)] += t.stiffness;
+      K.valuePtr()[pattern_offset(K, a, b)] -= t.stiffness;
+      K.valuePtr()[pattern_offset(K, b, a)] -= t.stiffness;
+    }
     return K;
   }
 
@@ -464,14 +480,20 @@ class LoadStep final : public ParametrisedProblem {
       constrained_nodes.erase(std::unique(constrained_nodes.begin(), constrained_nodes.end()), constrained_nodes.end());
     }
     const int n_fixed = static_cast<int>(constrained_nodes.size());
+    const int n_ties = static_cast<int>(active_ties_.size());
     return build_pattern_of_groups(
-        n_main + n_ghost + n_fixed,
+        n_main + n_ghost + n_fixed + n_ties,
         [&](int g) {
+          if (g >= n_main + n_ghost + n_fixed) return 2;
           if (g >= n_main + n_ghost) return 1;
           if (g >= n_main) return ghost_->faces()[g - n_main].count;
           return fbar_ ? static_cast<int>(fbar_->nodes()[g].size()) : st_[g].count;
         },
         [&](int g, int a) {
+          if (g >= n_main + n_ghost + n_fixed) {
+            const NodeTie& t = active_ties_[g - n_main - n_ghost - n_fixed];
+            return a == 0 ? std::min(t.a, t.b) : std::max(t.a, t.b);
+          }
           if (g >= n_main + n_ghost) return constrained_nodes[g - n_main - n_ghost];
           if (g >= n_main) return ghost_->faces()[g - n_main].node[a];
           return fbar_ ? fbar_->nodes()[g][a] : st_[g].node[a];
@@ -559,6 +581,7 @@ class LoadStep final : public ParametrisedProblem {
   std::vector<int> all_cells_;                  ///< F-bar: 0, 1, ... (every cell of the points)
   std::unique_ptr<GhostFaces<dim>> ghost_;      ///< ghost penalty faces (mpm/GhostPenalty.hpp); null when off
   std::unique_ptr<RigidContact<dim>> contact_;  ///< rigid boxes' contacts (mpm/RigidContact.hpp); null without
+  std::vector<NodeTie> active_ties_;            ///< Model::ties between active nodes
   std::vector<Mat3> fbar_dF_, fbar_q_;
   std::vector<double> fbar_dJ_, fbar_dJbar_;
   /// make_pattern()'s, zero until stiffness() assembles the tangent in it

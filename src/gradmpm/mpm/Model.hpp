@@ -31,6 +31,15 @@ struct NodalConstraint {
   bool gradient_boundary = true;
 };
 
+/// Two grid nodes whose displacement component moves together, by a penalty stiffness
+/// k (u_a - u_b)^2 / 2 ([[ties]]: a rigid frictionless plate under a load, whose nodes
+/// share one displacement; Mandel's problem). Serial runs.
+struct NodeTie {
+  int a, b;
+  int component;
+  double stiffness;  ///< k: force per unit difference of the two displacements
+};
+
 /// Grid nodes whose reaction force and displacement are reported (a named [[constraints]] block).
 struct NamedNodeSet {
   std::string name;
@@ -116,6 +125,7 @@ struct Model {
   /// zero on their nodes, fixed-support nodes on them included.
   std::vector<std::pair<int, double>> roller_planes;
   std::vector<NamedNodeSet> node_sets;
+  std::vector<NodeTie> ties;  ///< [[ties]]: node pairs held together by a penalty
   std::vector<RigidBox<dim>> rigid_boxes;
   Regularisation regularisation;
   TimeSettings time;  ///< implicit dynamics ([time]); time.dt = 0: quasi-static
