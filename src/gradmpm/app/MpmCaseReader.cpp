@@ -631,7 +631,7 @@ void read_pore_pressure(const CaseFile& cf, const std::vector<std::string>& name
     int selected = 0;
     for (int node = 0; node < m.grid.num_nodes(); ++node)
       if (sel.contains(m.grid.node_position(node), tol)) {
-        pore.constraints.push_back({node, value});
+        pore.constraints.push_back({node, value, static_cast<int>(c)});
         ++selected;
       }
     cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");

@@ -13,11 +13,13 @@ MaterialInfo hencky_info();          // materials/Hencky.cpp
 MaterialInfo von_mises_info();       // materials/VonMises.cpp
 MaterialInfo drucker_prager_info();  // materials/DruckerPrager.cpp
 MaterialInfo mohr_coulomb_info();    // materials/MohrCoulomb.cpp
+MaterialInfo modified_cam_clay_info();  // materials/ModifiedCamClay.cpp
 
 void register_builtins(MaterialRegistry& registry) {
   // One entry per law, in the order the docs list them.
   for (MaterialInfo (*info)() :
-       {hencky_info, linear_elastic_info, von_mises_info, drucker_prager_info, mohr_coulomb_info})
+       {hencky_info, linear_elastic_info, von_mises_info, drucker_prager_info, mohr_coulomb_info,
+        modified_cam_clay_info})
     registry.add(info());
 }
 

@@ -280,13 +280,23 @@ class ConsolidationStep final : public NonlinearProblem {
     for (std::size_t k = 0; k < c.size(); ++k)
       all.push_back({(c[k] / dim) * nc + c[k] % dim, step_.increments()[k]});
     largest_increment_ = step_.largest_increment();
+    std::vector<int> held;  // the blocks holding an active node
     for (const PressureConstraint& pc : model_.pore.constraints) {
       if (!dofs_.active(pc.node)) continue;
+      held.push_back(pc.block);
       const int e = dofs_.dof(pc.node, 0) / nc;
       const double inc = pc.value - p_n_[e];
       all.push_back({e * nc + dim, inc});
       largest_increment_ = std::max(largest_increment_, std::abs(inc));
     }
+    // A drained face on the grid's boundary drains only while points reach it: a body
+    // that settles away from it would go on undrained without a word.
+    for (const PressureConstraint& pc : model_.pore.constraints)
+      if (std::find(held.begin(), held.end(), pc.block) == held.end())
+        throw SolverError(fmt::format(
+            "pressure_constraints[{}] holds no node a point reaches any more: the body has moved off it and would "
+            "no longer drain; give the drained boundary as a band (min, max) that the body's surface stays in",
+            pc.block));
     std::sort(all.begin(), all.end());
     all.erase(std::unique(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
               all.end());

@@ -17,10 +17,12 @@ struct PoreFluid {
   double density = 1000.0;      ///< rho_w
 };
 
-/// A node's pore pressure held at `value` (a drained face: 0).
+/// A node's pore pressure held at `value` (a drained face: 0); `block`: its
+/// [[pressure_constraints]] block.
 struct PressureConstraint {
   int node;
   double value = 0.0;
+  int block = 0;
 };
 
 struct PoreSettings {
