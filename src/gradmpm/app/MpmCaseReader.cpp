@@ -637,7 +637,6 @@ void read_pore_pressure(const CaseFile& cf, const std::vector<std::string>& name
     cf.require(selected > 0, k + (cf.has(k + ".face") ? ".face" : ".min"), "a node set holding at least one grid node");
   }
   if (!pore.active()) return;
-  cf.require(!m.fbar, "mpm.fbar", "no F-bar with pore pressure (the u-p step has its own stabilisation)");
   cf.require(!newton.arc_length.enabled, "arc_length", "no arc-length control with pore pressure");
   cf.require(!ranks::distributed(), "pore_pressure", "a run on one rank (the u-p step is serial)");
   if (pore.flows())

@@ -159,6 +159,8 @@ class LoadStep final : public ParametrisedProblem {
   /// configuration its stress lives in: grad_x N = dN dF^-1 (finite strain), dN at x_n
   /// (small strain).
   const std::array<Vec<dim>, Stencil<dim>::capacity>& gradients(int p) const { return grads_[p]; }
+  /// F-bar's cells (null without F-bar).
+  const FBarCells<dim>* fbar_cells() const { return fbar_.get(); }
   /// The state block of the last internal_force() iterate.
   const std::vector<double>& trial_state() const { return trial_state_; }
   /// The round-off of the internal force: 100 eps_mach E h^(dim-1) sqrt(dofs), the norm of

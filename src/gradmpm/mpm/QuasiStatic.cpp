@@ -397,8 +397,8 @@ RunSummary run_quasi_static(Model<dim>& model, const NewtonSettings& settings,
   const StepControl control(model.time, settings);
   const bool dynamic = model.time.dynamic(), arc_length = settings.arc_length.enabled;
   if (arc_length && ranks::distributed()) throw UserError("[arc_length] runs on one rank");
-  if (model.pore.active() && (model.time.inertial() || arc_length || ranks::distributed() || model.fbar))
-    throw UserError("pore pressure runs on one rank, without inertia, arc-length control or F-bar");
+  if (model.pore.active() && (model.time.inertial() || arc_length || ranks::distributed()))
+    throw UserError("pore pressure runs on one rank, without inertia or arc-length control");
   if (model.pore.active() && model.pore.fluids.size() != model.materials.size())
     throw std::logic_error("PoreSettings::fluids needs one fluid per material");
   Progress progress(start, control);
