@@ -15,6 +15,10 @@
 //   column_2d_dynamic the 2D column with [time] (Newmark, lumped mass, dt = 0.05, gravity in
 //              full from t = 0) instead of load steps: what the points' inertia costs a Newton
 //              iteration (the mass's projection, M a in the residual, M in the tangent)
+//   column_2d_consolidation the 2D column as a saturated soil (coupled u-p, [pore_pressure])
+//              consolidating under its weight in time steps of 0.05, drained at its top:
+//              what the pore pressure costs a Newton iteration (n x n cells: the same
+//              displacement dof as column_2d, and a pressure per node)
 //   column_3d  the same in 3D; n x n x n cells
 //   footing_2d examples/footing_2d.toml refined by a factor (uGIMP)
 //   tresca_2d  examples/footing_tresca_2d.toml (von Mises, plastic under the footing)
@@ -128,6 +132,20 @@ std::string dynamic_column(int dim, int n) {
   std::string t = column(dim, n);
   const std::string steps = "[load_steps]\ncount = 10\n";
   return t.replace(t.find(steps), steps.size(), "[time]\ndt = 0.05\nend_time = 1.0\n");
+}
+
+/// The 2D column as a saturated soil consolidating under its weight (coupled u-p, [time]
+/// without inertia), drained at its top: what the pore pressure costs a Newton iteration
+/// (a third more equations, a non-symmetric tangent).
+std::string consolidating_column(int n) {
+  std::string t = column(2, n);
+  const double h = 10.0 / n;
+  const std::string steps = "[load_steps]\ncount = 10\n";
+  t.replace(t.find(steps), steps.size(), "[time]\ndt = 0.05\nend_time = 1.0\ninertia = false\n");
+  const std::string soil = "density = 1.0\n";
+  t.replace(t.find(soil), soil.size(), soil + "porosity = 0.4\npermeability = 1e-3\nfluid_density = 0.5\n");
+  return t + fmt::format("[pore_pressure]\ndrainage = \"coupled\"\n[[pressure_constraints]]\nmin = [{}, {}]\nmax = [{}, {}]\n",
+                         -h, 10.0 - 2.0 * h, 10.0 + h, 10.0 + h);
 }
 
 double peak_mib() {
@@ -251,6 +269,7 @@ int main(int argc, char** argv) {
 
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
   std::vector<int> dynamic2 = quick ? std::vector<int>{20, 224} : std::vector<int>{20, 224};
+  std::vector<int> pore2 = quick ? std::vector<int>{20, 224} : std::vector<int>{20, 224};
   std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};
   std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8, 16, 32};
   std::vector<int> plastic = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 12};
@@ -259,15 +278,18 @@ int main(int argc, char** argv) {
     const auto colon = only.find(':');
     const std::string name = only.substr(0, colon);
     const int size = colon == std::string::npos ? 0 : std::atoi(only.c_str() + colon + 1);
-    if (size <= 0 || (name != "column_2d" && name != "column_2d_dynamic" && name != "column_3d" &&
+    if (size <= 0 || (name != "column_2d" && name != "column_2d_dynamic" && name != "column_2d_consolidation" &&
+                      name != "column_3d" &&
                       name != "footing_2d" && name != "tresca_2d" && name != "biaxial_2d")) {
       fmt::print(stderr,
-                 "bench_mpm: --only expects column_2d:N, column_2d_dynamic:N, column_3d:N, footing_2d:R, tresca_2d:R "
+                 "bench_mpm: --only expects column_2d:N, column_2d_dynamic:N, column_2d_consolidation:N, column_3d:N, "
+                 "footing_2d:R, tresca_2d:R "
                  "or biaxial_2d:R with N, R > 0, not '{}'\n",
                  only);
       return 2;
     }
     dynamic2 = name == "column_2d_dynamic" ? std::vector<int>{size} : std::vector<int>{};
+    pore2 = name == "column_2d_consolidation" ? std::vector<int>{size} : std::vector<int>{};
     n2 = name == "column_2d" ? std::vector<int>{size} : std::vector<int>{};
     n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
@@ -281,6 +303,10 @@ int main(int argc, char** argv) {
   for (int n : dynamic2)
     bench<2>("column_2d_dynamic", CaseFile::parse(dynamic_column(2, n), "column_2d_dynamic", {solver_key, options_key}),
              csv, threads);
+  for (int n : pore2)
+    bench<2>("column_2d_consolidation",
+             CaseFile::parse(consolidating_column(n), "column_2d_consolidation", {solver_key, options_key}), csv,
+             threads);
   for (int n : n3)
     bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key, options_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";
