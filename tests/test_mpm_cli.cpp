@@ -170,6 +170,24 @@ TEST_F(MpmCli, DynamicCasesWriteTheTimeAndAreChecked) {
   }
 }
 
+TEST_F(MpmCli, ConsolidationWritesThePorePressureOnPointsAndGrid) {
+  // Terzaghi's column to T_v = 0.01: p in points_final.csv and tracked_points.csv (last
+  // column), pore_pressure in the points' and the grid's VTU; at the impermeable base p is
+  // still the undrained p_0 = q m_v / (m_v + n / K_f) (the series: 1 - 3e-12 there).
+  ASSERT_EQ(run(example("consolidation_1d.toml") + " -q --set time.end_time=0.01 --set output.vtk_every=5 --out " +
+                dir.string()),
+            0);
+  const auto final_points = csv_columns(dir / "points_final.csv");
+  ASSERT_TRUE(final_points.count("p"));
+  const double p0 = 1e4 * 1e-7 / (1e-7 + 0.4 / 2.2e9);
+  EXPECT_NEAR(final_points.at("p").front(), p0, 1e-3 * p0);
+  EXPECT_TRUE(csv_columns(dir / "tracked_points.csv").count("p"));
+  EXPECT_NE(slurp(dir / "points_0010.vtu").find("Name=\"pore_pressure\""), std::string::npos);
+  const std::string grid = slurp(dir / "grid_0010.vtu");
+  EXPECT_NE(grid.find("Name=\"pore_pressure\""), std::string::npos);
+  EXPECT_EQ(grid.find("nan"), std::string::npos);
+}
+
 TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {
   const std::string bar = example("bar_bimaterial_mpm.toml") + " --out " + dir.string();
   const std::vector<std::pair<std::string, std::string>> cases = {

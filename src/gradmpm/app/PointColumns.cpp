@@ -244,6 +244,10 @@ std::vector<VtkField> grid_vtk_fields(const Model<dim>& m, const StepInfo* info)
       mass.values[k] = nodal_mass[n];
     }
   }
+  if (info && info->grid_pore_pressure && !split) {  // (pore pressure runs on one rank)
+    const Vector& p = info->grid_pore_pressure();
+    return {du, mass, VtkField{"pore_pressure", 1, std::vector<double>(p.data(), p.data() + p.size())}};
+  }
   return {du, mass};
 }
 

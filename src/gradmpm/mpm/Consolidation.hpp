@@ -157,6 +157,15 @@ class ConsolidationStep final : public NonlinearProblem {
     step_.add_to_reactions(-f_p_);
   }
 
+  /// p_n + dp at every grid node (zero on inactive nodes) for the converged x.
+  Vector grid_pressure(const Vector& x) const {
+    Vector p = p_n_;
+    for (int e = 0; e < dofs_.num_active_nodes(); ++e) p[e] += x[e * nc + dim];
+    Vector g = Vector::Zero(model_.grid.num_nodes());
+    for (int e = 0; e < dofs_.num_active_nodes(); ++e) g[dofs_.node_of(e)] = p[e];
+    return g;
+  }
+
   /// After convergence: the points' pore pressure; returns the displacement part of x (for
   /// LoadStep::commit).
   Vector commit(Model<dim>& model, const Vector& x) {

@@ -252,6 +252,9 @@ struct StepInfo : NewtonLog {
   /// f_int - f_ext at the converged iterate at every grid node (dim per node): the
   /// reaction forces on constrained components (~0 elsewhere; zero on inactive nodes).
   std::function<const Vector&()> grid_reaction;
+  /// With pore pressure (PoreSettings): p at the step's end at every grid node (zero on
+  /// inactive nodes); empty without.
+  std::function<const Vector&()> grid_pore_pressure;
   /// The force each rigid box exerts on the body at the converged iterate (dim per box).
   std::function<Vector()> rigid_forces;
   double seconds = 0.0;        ///< the load step, its cuts included, without the post-step stages

@@ -234,7 +234,11 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
     du = solve_step(*step, problem, model, settings, info, newton);
   }
   t0 = Clock::now();
-  if (pore) du = pore->commit(model, du);  // the points' p; the displacement part goes on
+  if (pore) {
+    auto grid_p = std::make_shared<const Vector>(pore->grid_pressure(du));
+    info.grid_pore_pressure = [grid_p]() -> const Vector& { return *grid_p; };
+    du = pore->commit(model, du);  // the points' p; the displacement part goes on
+  }
   step->commit(model, du);
   if (dynamic) {
     dynamic->commit(model, du);
