@@ -192,6 +192,34 @@ SectionSpec time_section() {
            .doc = "false: time steps without inertia, for consolidation ([pore_pressure] drainage = \"coupled\": the time is the pore water's flow; docs/pore-pressure.md)"}}};
 }
 
+/// [[ties]] (mpm_sections).
+SectionSpec ties_section() {
+  const std::string dimvec = "[dim numbers]";
+  return SectionSpec{"ties", SectionKind::Array, false, "grid nodes whose displacement components move together: a rigid frictionless plate under a load (penalty; one rank)",
+         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
+           .doc = "node set: a grid face"},
+          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
+           .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
+          {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "see `min`"},
+          {.name = "components", .type = K::Other, .type_text = "[strings]",
+           .doc = "the components tied, e.g. [\"y\"]: every node of the set (that a point reaches) moves as its neighbours in the set do"},
+          {.name = "penalty", .type = K::Number, .default_value = 1e4, .min = 0.0, .max = 1e10, .min_open = true,
+           .allowed = "a number > 0 (at most 1e10)",
+           .doc = "alpha: the tie's stiffness alpha E h^(dim-2) between neighbouring nodes (E the stiffest material's); the nodes differ by about 1 / alpha of the strain's displacement"}}};
+}
+
+/// [[pressure_constraints]] (mpm_sections).
+SectionSpec pressure_constraints_section() {
+  const std::string dimvec = "[dim numbers]";
+  return SectionSpec{"pressure_constraints", SectionKind::Array, false, "grid nodes whose pore pressure is held (drained faces; [pore_pressure])",
+         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
+           .doc = "node set: a grid face"},
+          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
+           .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
+          {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "see `min`"},
+          {.name = "pressure", .type = K::Number, .default_value = 0.0, .doc = "the pore pressure held (0: a drained face)"}}};
+}
+
 /// [pore_pressure] (mpm_sections).
 SectionSpec pore_pressure_section() {
   return SectionSpec{"pore_pressure", SectionKind::Section, false, "pore water of a saturated soil: the pore pressure p solved with the displacements (u-p), undrained or with Darcy flow (docs/pore-pressure.md)",
@@ -296,24 +324,8 @@ const std::vector<SectionSpec>& mpm_sections() {
          {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
           {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}},
-        {"ties", SectionKind::Array, false, "grid nodes whose displacement components move together: a rigid frictionless plate under a load (penalty; one rank)",
-         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
-           .doc = "node set: a grid face"},
-          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
-           .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
-          {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "see `min`"},
-          {.name = "components", .type = K::Other, .type_text = "[strings]",
-           .doc = "the components tied, e.g. [\"y\"]: every node of the set (that a point reaches) moves as its neighbours in the set do"},
-          {.name = "penalty", .type = K::Number, .default_value = 1e4, .min = 0.0, .max = 1e10, .min_open = true,
-           .allowed = "a number > 0 (at most 1e10)",
-           .doc = "alpha: the tie's stiffness alpha E h^(dim-2) between neighbouring nodes (E the stiffest material's); the nodes differ by about 1 / alpha of the strain's displacement"}}},
-        {"pressure_constraints", SectionKind::Array, false, "grid nodes whose pore pressure is held (drained faces; [pore_pressure])",
-         {{.name = "face", .type = K::String, .default_text = "none", .allowed = "a grid face \"x-\", \"x+\", \"y-\", ...",
-           .doc = "node set: a grid face"},
-          {.name = "min", .type = K::Other, .type_text = dimvec, .default_text = "none",
-           .doc = "node set: the nodes inside the box min..max (inclusive), instead of `face`"},
-          {.name = "max", .type = K::Other, .type_text = dimvec, .default_text = "none", .doc = "see `min`"},
-          {.name = "pressure", .type = K::Number, .default_value = 0.0, .doc = "the pore pressure held (0: a drained face)"}}},
+        ties_section(),
+        pressure_constraints_section(),
         pore_pressure_section(),
         {"load_steps", SectionKind::Section, false, "the load stepping of a quasi-static analysis (required without [time] or [arc_length])",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
