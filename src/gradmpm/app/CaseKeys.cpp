@@ -234,6 +234,8 @@ SectionSpec pore_pressure_section() {
 std::vector<KeySpec> pore_fluid_keys() {
   return {{.name = "permeability", .type = K::Number, .default_text = "none", .min = 0.0, .allowed = "a hydraulic conductivity >= 0",
            .doc = "[pore_pressure] coupled: the hydraulic conductivity k (m/s) of Darcy's q = -k grad h, h = p / gamma_w + z; c_v = k E_oed / gamma_w"},
+          {.name = "permeability_law", .type = K::String, .default_value = std::string("constant"), .choices = {"constant", "kozeny-carman"},
+           .doc = "[pore_pressure] coupled: `constant`, or `kozeny-carman`: k = permeability (n^3 / (1 - n)^2) / (n_0^3 / (1 - n_0)^2) at the current porosity n"},
           {.name = "porosity", .type = K::Number, .default_text = "none", .min = 0.0, .max = 1.0, .min_open = true, .max_open = true,
            .allowed = "a porosity in (0, 1)",
            .doc = "[pore_pressure]: the porosity n_0 at the start (the fluid's storage n / K_f; n follows the volume)"},

@@ -183,7 +183,8 @@ GridRead<dim> read_grid(const CaseFile& cf) {
 }
 
 /// The pore fluid's keys of a [materials.NAME] section (read by read_pore_pressure).
-constexpr const char* kPoreFluidKeys[] = {"permeability", "porosity", "fluid_bulk_modulus", "fluid_density"};
+constexpr const char* kPoreFluidKeys[] = {"permeability", "permeability_law", "porosity", "fluid_bulk_modulus",
+                                          "fluid_density"};
 
 /// [materials.NAME]: each law reads its own keys. Returns the names, in file order.
 template <int dim>
@@ -615,9 +616,11 @@ void read_pore_pressure(const CaseFile& cf, const std::vector<std::string>& name
       cf.require(cf.has(k + ".permeability"), k + ".permeability",
                  "a hydraulic conductivity k >= 0 (m/s; [pore_pressure] drainage = \"coupled\")");
       f.conductivity = read_number(cf, k, mat.key("permeability"));
+      f.kozeny_carman = read_string(cf, k, mat.key("permeability_law")) == "kozeny-carman";
     } else {
-      cf.require(!cf.has(k + ".permeability"), k + ".permeability",
-                 "no permeability unless [pore_pressure] drainage = \"coupled\" (undrained: no flow)");
+      for (const char* key : {"permeability", "permeability_law"})
+        cf.require(!cf.has(k + "." + key), k + "." + key,
+                   fmt::format("no {} unless [pore_pressure] drainage = \"coupled\" (undrained: no flow)", key));
     }
     pore.fluids.push_back(f);
   }

@@ -303,7 +303,8 @@ class ConsolidationStep final : public NonlinearProblem {
       if (lumped[e] > 0.0) p_n_[e] = b[e] / lumped[e];
   }
 
-  /// Each point's storage S V, mobility dt k / gamma_w V, projection weight tau V / (2 G),
+  /// Each point's storage S V, mobility dt k(n) / gamma_w V (n at the step's start),
+  /// projection weight tau V / (2 G),
   /// and the fluid's weight rho_w g (at the step's load factor).
   void point_coefficients() {
     const auto& pts = model_.points;
@@ -319,7 +320,7 @@ class ConsolidationStep final : public NonlinearProblem {
       const double V = pts.volume[p];
       storage_[p] = n / f.bulk_modulus * V;
       const double gamma_w = f.density * model_.pore.gravity;
-      mobility_[p] = gamma_w > 0.0 ? dt_ * f.conductivity / gamma_w * V : 0.0;
+      mobility_[p] = gamma_w > 0.0 ? dt_ * f.conductivity_at(n) / gamma_w * V : 0.0;
       const IsotropicElasticity& el = model_.material_of(p).elasticity();
       const double shear = el.young / (2.0 * (1.0 + el.poisson));
       stab_[p] = model_.pore.stabilisation * V / (2.0 * shear);

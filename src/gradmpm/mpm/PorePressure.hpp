@@ -15,6 +15,16 @@ struct PoreFluid {
   double bulk_modulus = 2.2e9;  ///< K_f of the pore fluid (water: 2.2e9 Pa)
   double porosity = 0.0;        ///< n_0, at the start (the current one follows the volume: 1 - (1 - n_0) / J)
   double density = 1000.0;      ///< rho_w
+  /// k follows the porosity by Kozeny-Carman, k = k_0 (n^3 / (1 - n)^2) / (n_0^3 / (1 -
+  /// n_0)^2), n the current porosity; false: k constant.
+  bool kozeny_carman = false;
+
+  /// The conductivity at porosity n.
+  double conductivity_at(double n) const {
+    if (!kozeny_carman) return conductivity;
+    const double n0 = porosity;
+    return conductivity * (n * n * n / ((1.0 - n) * (1.0 - n))) / (n0 * n0 * n0 / ((1.0 - n0) * (1.0 - n0)));
+  }
 };
 
 /// A node's pore pressure held at `value` (a drained face: 0); `block`: its
