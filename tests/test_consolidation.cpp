@@ -17,6 +17,9 @@
 //      0.4) consolidates with k scaled by (n^3 / (1 - n)^2) / (n_0^3 / (1 - n_0)^2) = 0.469
 //      and the storage of its porosity: the isochrones are Terzaghi's at that c_v within
 //      1 % of p_0 (T_v = 0.05, 0.2, 1);
+//   C7 at rest under gravity (a saturated column of density 2 rho_w, drained at its top)
+//      the pore pressure is hydrostatic, rho_w g (H - X), to 1e-3 rho_w g H, and the
+//      effective stress carries the buoyant weight (rho - rho_w) g (H - X) to 1e-2 of it;
 //   C5 Mandel's problem (plane strain, a quarter of the sample, a rigid frictionless plate
 //      on top by node ties, drained at x = a): the pore pressure at the centre follows
 //      Mandel's closed form (Abousleiman et al. 1996) within 2 % of p_0 from T = 0.005 to
@@ -330,4 +333,31 @@ TEST(Consolidation, C6_KozenyCarmanScalesTheConductivityWithThePorosity) {
     EXPECT_LT(error, 0.01) << "T_v = " << T;
   });
   EXPECT_EQ(next, targets.size());
+}
+
+TEST(Consolidation, C7_AtRestUnderGravityThePorePressureIsHydrostatic) {
+  Model<1> m = column(40, PoreSettings::Drainage::Coupled);
+  const double rho = 2000.0, g = 9.81;
+  m.materials = {std::make_shared<LinearElastic>(Column::E, 0.0, rho)};
+  for (int p = 0; p < m.points.size(); ++p) {
+    m.points.mass[p] = rho * m.points.volume[p];
+    m.points.force[p].setZero();
+  }
+  m.gravity = Vec<1>(-g);
+  m.pore.gravity = g;
+  m.time.dt = 1e6;  // (one step to the state at rest)
+  m.time.end_time = 1e6;
+  m.time.inertia = false;
+  run_quasi_static<1>(m, NewtonSettings{});
+  const double gw = Column::rho_w * g;
+  double p_error = 0.0, s_error = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    const double depth = Column::H - m.points.original_position[p][0];
+    p_error = std::max(p_error, std::abs(m.points.pore_pressure[p] - gw * depth) / (gw * Column::H));
+    s_error = std::max(s_error, std::abs(m.points.stress[p](0, 0) + (rho * g - gw) * depth) / ((rho * g - gw) * Column::H));
+  }
+  std::cout << fmt::format("  p off rho_w g (H - X) by at most {:.2e} rho_w g H; effective stress off by {:.2e}\n",
+                           p_error, s_error);
+  EXPECT_LT(p_error, 1e-3);
+  EXPECT_LT(s_error, 1e-2);
 }

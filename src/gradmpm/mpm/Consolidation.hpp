@@ -88,6 +88,9 @@ class ConsolidationStep final : public NonlinearProblem {
     const DofMap& u_dofs = step_.dofs();
     const auto& st = step_.stencils();
     const bool cells = !cell_nodes_.empty();
+    // The flow's two terms in balance at rest (the pressure gradient's, the fluid weight's):
+    // their sizes join the residual's scale, as f_ext and f_int do.
+    Vector gradient_flow = Vector::Zero(dofs_.num_active_nodes()), weight_flow = gradient_flow;
     assembler_.for_each_point_disjoint([&](int p) {
       const Stencil<dim>& s = st[p];
       const auto& G = step_.gradients(p);
@@ -96,8 +99,14 @@ class ConsolidationStep final : public NonlinearProblem {
       const double dv = cells ? 0.0 : dv_[p];  // (F-bar: the cell's, below)
       for (int a = 0; a < s.count; ++a) {
         for (int i = 0; i < dim; ++i) f_p_[u_dofs.dof(s.node[a], i)] += force * G[a][i];
-        double flow = 0.0;
-        for (int j = 0; j < dim; ++j) flow += s.dN[a][j] * flux_[p][j];
+        double flow = 0.0, weight = 0.0;
+        for (int j = 0; j < dim; ++j) {
+          flow += s.dN[a][j] * flux_[p][j];
+          weight += s.dN[a][j] * weight_[p][j];
+        }
+        const int e = dofs_.dof(s.node[a], 0) / nc;
+        gradient_flow[e] += omega_ * mobility_[p] * (flow + weight);
+        weight_flow[e] += omega_ * mobility_[p] * weight;
         const double mass = s.N[a] * (dv + storage_[p] * (P_[p] - model_.points.pore_pressure[p])) +
                             mobility_[p] * flow +
                             stab_[p] * (s.N[a] * (P_[p] - model_.points.pore_pressure[p]) -
@@ -116,7 +125,8 @@ class ConsolidationStep final : public NonlinearProblem {
     for (int c : constrained_) r[c] = 0.0;
     const Vector f_total = step_.f_int() - f_p_;
     const double total = f_total.norm();
-    const double scale = std::isfinite(total) ? std::max(solid.scale, total) : solid.scale;
+    const double flows = std::max(gradient_flow.norm(), weight_flow.norm());
+    const double scale = std::isfinite(total) ? std::max({solid.scale, total, flows}) : solid.scale;
     return {r.norm(), scale};
   }
 
