@@ -74,6 +74,24 @@ double energy(const Model<1>& m) {
   return e;
 }
 
+/// The period of a displacement u(t) sampled after every step, from its zero crossings
+/// (linear between the steps; step 1 leaves u = 0 and is skipped).
+class ZeroCrossings {
+ public:
+  void add(int step, double t, double u) {
+    if (step > 1 && previous_ * u < 0.0) crossings_.push_back(previous_t_ + (t - previous_t_) * previous_ / (previous_ - u));
+    previous_ = u;
+    previous_t_ = t;
+  }
+  std::size_t count() const { return crossings_.size(); }
+  /// Two crossings per period, averaged over all of them.
+  double period() const { return 2.0 * (crossings_.back() - crossings_.front()) / (crossings_.size() - 1); }
+
+ private:
+  std::vector<double> crossings_;
+  double previous_ = 0.0, previous_t_ = 0.0;
+};
+
 struct Vibration {
   double period = 0.0;       ///< from the zero crossings of the free end's displacement
   double energy_drift = 0.0; ///< max |E(t) - E(0)| / E(0)
@@ -92,20 +110,15 @@ Vibration vibrate(int n, bool consistent, int periods, int per_period) {
   const int tip = m.points.size() - 1;
   const double X = m.points.position[tip][0];
   const double e0 = energy(m);
-  std::vector<double> crossings;
-  double previous = 0.0, previous_t = 0.0;
+  ZeroCrossings crossings;
   Vibration out;
   NewtonSettings s;
   run_quasi_static<1>(m, s, [&](const Model<1>& mm, const StepInfo& info) {
-    const double u = mm.points.position[tip][0] - X;
-    if (info.step > 1 && previous * u < 0.0)  // (step 1 leaves u = 0)
-      crossings.push_back(previous_t + (info.time - previous_t) * previous / (previous - u));
-    previous = u;
-    previous_t = info.time;
+    crossings.add(info.step, info.time, mm.points.position[tip][0] - X);
     out.energy_drift = std::max(out.energy_drift, std::abs(energy(mm) - e0) / e0);
   });
-  EXPECT_GE(crossings.size(), 2u * periods - 1);
-  out.period = 2.0 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  EXPECT_GE(crossings.count(), 2u * periods - 1);
+  out.period = crossings.period();
   return out;
 }
 
@@ -236,17 +249,12 @@ TEST(Dynamics, D2TheSameBarIn2DHasTheSamePeriod) {
   m.time.consistent_mass = true;
   const int tip = m.points.size() - 1;
   const double X = m.points.position[tip][0];
-  std::vector<double> crossings;
-  double previous = 0.0, previous_t = 0.0;
+  ZeroCrossings crossings;
   NewtonSettings s;
   run_quasi_static<2>(m, s, [&](const Model<2>& mm, const StepInfo& info) {
-    const double u = mm.points.position[tip][0] - X;
-    if (info.step > 1 && previous * u < 0.0)
-      crossings.push_back(previous_t + (info.time - previous_t) * previous / (previous - u));
-    previous = u;
-    previous_t = info.time;
+    crossings.add(info.step, info.time, mm.points.position[tip][0] - X);
   });
-  const double period = 2.0 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  const double period = crossings.period();
   const double discrete = discrete_period(n, true, T / per_period);
   std::cout << "D2 2D strip, consistent mass, 32 cells per wavelength: period " << period << " s, the 1D discrete "
             << "closed form " << discrete << " s (" << 100.0 * (period / discrete - 1.0) << " % from it)\n";
@@ -380,16 +388,11 @@ mass = "{5}"
                                 "cantilever.toml");
   MpmCase<2> c = read_mpm_case<2>(cf);
   const double y0 = c.model.points.position[last][1];
-  std::vector<double> crossings;
-  double previous = 0.0, previous_t = 0.0;
+  ZeroCrossings crossings;
   run_quasi_static<2>(c.model, c.newton, [&](const Model<2>& m, const StepInfo& info) {
-    const double u = m.points.position[last][1] - y0;
-    if (info.step > 1 && previous * u < 0.0)
-      crossings.push_back(previous_t + (info.time - previous_t) * previous / (previous - u));
-    previous = u;
-    previous_t = info.time;
+    crossings.add(info.step, info.time, m.points.position[last][1] - y0);
   });
-  return 2.0 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  return crossings.period();
 }
 
 }  // namespace

@@ -29,26 +29,28 @@ using detail::ConsolidationStep;
 using detail::DynamicStep;
 using detail::LoadStep;
 
-/// The load step's equilibrium: one Newton solve, or with regularised plasticity the
-/// staggered iteration of mpm/ImplicitGradient.hpp: Newton with kappa_bar frozen, then
-/// kappa_bar = (M + l^2 L)^-1 M kappa of the converged iterate (Anderson-accelerated),
-/// written into the state the step starts from, until kappa_bar stops changing.
-template <int dim>
-Vector solve_step(LoadStep<dim>& step, NonlinearProblem& problem, Model<dim>& model, const NewtonSettings& settings,
-                  StepInfo& info, NewtonSolver& newton) {
+/// The load step's equilibrium: one solve, or with regularised plasticity the staggered
+/// iteration of mpm/ImplicitGradient.hpp: the solve with kappa_bar frozen, then kappa_bar =
+/// (M + l^2 L)^-1 M kappa of the converged iterate (Anderson-accelerated), written into the
+/// state the step starts from, until kappa_bar stops changing. `solve(start)`: a Newton or
+/// an arc-length solve of the whole step (the same arc from the same state each pass),
+/// from `start` (null: from du = 0).
+template <int dim, class Solve>
+Vector staggered_solve(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& settings, StepInfo& info,
+                       NewtonSolver& newton, Solve&& solve) {
   newton.start_step();
-  if (!NonlocalPlasticStrain<dim>::applies(model)) return newton.solve(problem, settings, info);
+  if (!NonlocalPlasticStrain<dim>::applies(model)) return solve(nullptr);
   const auto t0 = Clock::now();
   NonlocalPlasticStrain<dim> nonlocal(model, step.stencils(), settings.linear_solver);
   if (!model.regularisation.start_from_points) nonlocal.smooth(model.points.state, model.points.state);
   info.phases.nonlocal += seconds_since(t0);
-  Vector du = newton.solve(problem, settings, info);
+  Vector du = solve(nullptr);
   for (int k = 1;; ++k) {
     const auto t1 = Clock::now();
     const double change = nonlocal.iterate(step.trial_state(), model.points.state);
     info.phases.nonlocal += seconds_since(t1);
     ++info.staggers;
-    du = newton.solve(problem, settings, info, &du);
+    du = solve(&du);
     // Both fields in balance: kappa_bar moved by less than the tolerance, and the
     // displacements are in balance with it. (That Newton needed no correction at the new
     // kappa_bar is not enough: a uniform change of stress leaves a 1D bar in balance
@@ -59,29 +61,21 @@ Vector solve_step(LoadStep<dim>& step, NonlinearProblem& problem, Model<dim>& mo
   }
 }
 
-/// An arc-length step's equilibrium: one arc-length solve, or with regularised plasticity
-/// the staggered iteration of solve_step, each pass an arc-length solve of the whole step
-/// (the same arc from the same state) with kappa_bar frozen at the last pass's.
+/// The step's equilibrium by Newton on `problem` (the load step, or its dynamic or u-p
+/// wrapper), the next pass starting from the last one's du.
+template <int dim>
+Vector solve_step(LoadStep<dim>& step, NonlinearProblem& problem, Model<dim>& model, const NewtonSettings& settings,
+                  StepInfo& info, NewtonSolver& newton) {
+  return staggered_solve(step, model, settings, info, newton,
+                         [&](const Vector* start) { return newton.solve(problem, settings, info, start); });
+}
+
+/// An arc-length step's equilibrium: each pass an arc-length solve of the whole step.
 template <int dim>
 Vector solve_arc_step(LoadStep<dim>& step, Model<dim>& model, const NewtonSettings& settings, StepInfo& info,
                       NewtonSolver& newton, NewtonSolver::ArcLength& arc) {
-  newton.start_step();
-  if (!NonlocalPlasticStrain<dim>::applies(model)) return newton.solve_arc_length(step, settings, arc, info);
-  const auto t0 = Clock::now();
-  NonlocalPlasticStrain<dim> nonlocal(model, step.stencils(), settings.linear_solver);
-  if (!model.regularisation.start_from_points) nonlocal.smooth(model.points.state, model.points.state);
-  info.phases.nonlocal += seconds_since(t0);
-  Vector du = newton.solve_arc_length(step, settings, arc, info);
-  for (int k = 1;; ++k) {
-    const auto t1 = Clock::now();
-    const double change = nonlocal.iterate(step.trial_state(), model.points.state);
-    info.phases.nonlocal += seconds_since(t1);
-    ++info.staggers;
-    du = newton.solve_arc_length(step, settings, arc, info);
-    if (change <= model.regularisation.tolerance) return du;
-    if (k == model.regularisation.max_iterations)
-      throw StepFailure{fmt::format("the nonlocal plastic strain did not converge in {} staggered iterations", k)};
-  }
+  return staggered_solve(step, model, settings, info, newton,
+                         [&](const Vector*) { return newton.solve_arc_length(step, settings, arc, info); });
 }
 
 /// Moves the model's points and the stages' per-point arrays as `migration` says.
