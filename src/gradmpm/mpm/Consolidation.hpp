@@ -7,8 +7,8 @@
 //
 // Unknowns per active node: the step's displacement du (dim) and pore-pressure increment
 // dp. Points carry p (MaterialPoints::pore_pressure); at the start of the step it goes to
-// the nodes as p_n,a = sum_p N_ap V_p p_p / sum_p N_ap V_p, and after the step the points
-// take p_p += sum_a N_ap dp_a. The equations, with P_p = p_p + sum_a N_ap dp_a:
+// the nodes by the L2 projection M p_n = sum_p N_ap V_p p_p (nodal_pressure()), and after
+// the step the points take p_p += sum_a N_ap dp_a. The equations, with P_p = p_p + sum_a N_ap dp_a:
 //   momentum:  f_ext - f_int(sigma') + sum_p P_p v_p grad_x N_a = 0             (total stress sigma' - p I)
 //   mass:      sum_p [N_a (dv_p + S_p V_p dP_p) + dt (k / gamma_w) V_p grad N_a . (grad p_n+1 - rho_w g)]
 //              + tau / (2 G) sum_p V_p (N_a - Nbar_a)(dP_p - dPbar) = 0
