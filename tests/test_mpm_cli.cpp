@@ -10,7 +10,9 @@
 //    energy add up to the work of gravity (g times the mass-weighted fall) to 0.2 %
 //    while the vertical cut collapses (0.07 % measured with the lumped mass); [time] with
 //    [load_steps] or [arc_length], or a prescribed displacement without a ramp, is
-//    refused with exit 2 and the key named.
+//    refused with exit 2 and the key named;
+//  - a consolidation case writes p on the points and the grid; [initial_stress] starts
+//    the points at their geostatic effective stress and hydrostatic pore pressure.
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
@@ -186,6 +188,24 @@ TEST_F(MpmCli, ConsolidationWritesThePorePressureOnPointsAndGrid) {
   const std::string grid = slurp(dir / "grid_0010.vtu");
   EXPECT_NE(grid.find("Name=\"pore_pressure\""), std::string::npos);
   EXPECT_EQ(grid.find("nan"), std::string::npos);
+}
+
+TEST_F(MpmCli, InitialStressStartsTheClayFromItsGeostaticState) {
+  // examples/footing_consolidation_2d.toml ([initial_stress], water table at the surface
+  // y = 4, both materials 1800 kg/m3): at step 0 the point 674 (X = 0.0625, Y = 1.9375)
+  // carries p = rho_w g d and sigma'_v = (rho - rho_w) g d, sigma'_h = K0 sigma'_v,
+  // d = 2.0625, to round-off.
+  ASSERT_EQ(run(example("footing_consolidation_2d.toml") + " -q --set time.end_time=86400 --out " + dir.string()), 0)
+      << slurp(dir / "stderr");
+  const auto tracked = csv_columns(dir / "tracked_points.csv");
+  const double g = 9.81, d = 4.0 - 1.9375, p = 1000.0 * g * d, sv = 800.0 * g * d;
+  std::size_t row = 0;
+  while (row < tracked.at("id").size() && !(tracked.at("step")[row] == 0 && tracked.at("id")[row] == 674)) ++row;
+  ASSERT_LT(row, tracked.at("id").size());
+  EXPECT_NEAR(tracked.at("p")[row], p, 1e-9 * p);
+  EXPECT_NEAR(tracked.at("syy")[row], -sv, 1e-9 * sv);
+  EXPECT_NEAR(tracked.at("sxx")[row], -0.6 * sv, 1e-9 * sv);
+  EXPECT_NEAR(tracked.at("szz")[row], -0.6 * sv, 1e-9 * sv);
 }
 
 TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {

@@ -230,6 +230,15 @@ SectionSpec pore_pressure_section() {
            .doc = "tau of the polynomial pressure projection tau / (2 G) (q - Pi q)(dp - Pi dp) (Dohrmann & Bochev 2004; White & Borja 2008), Pi the mean over the points sharing a stencil: the equal-order pressure's stabilisation where flow is slow (undrained loading, the first steps)"}}};
 }
 
+/// [initial_stress] (mpm_sections).
+SectionSpec initial_stress_section() {
+  return SectionSpec{"initial_stress", SectionKind::Section, false, "geostatic initial stresses (the K0 procedure): the points start at rest under their weight, gravity acts in full from the first step (docs/pore-pressure.md)",
+         {{.name = "k0", .type = K::Number, .min = 0.0, .max = 10.0, .min_open = true, .allowed = "a ratio in (0, 10]",
+           .doc = "K0 = sigma'_h / sigma'_v (e.g. 1 - sin phi', Jaky; nu / (1 - nu) for an elastic body under its weight)"},
+          {.name = "water_table", .type = K::Number, .default_text = "none",
+           .doc = "with pore pressure (required then): the water table's elevation (its coordinate along -gravity); below it p = rho_w |g| depth"}}};
+}
+
 /// The pore fluid's keys of every [materials.NAME] section (read with [pore_pressure]).
 std::vector<KeySpec> pore_fluid_keys() {
   return {{.name = "permeability", .type = K::Number, .default_text = "none", .min = 0.0, .allowed = "a hydraulic conductivity >= 0",
@@ -329,6 +338,7 @@ const std::vector<SectionSpec>& mpm_sections() {
         ties_section(),
         pressure_constraints_section(),
         pore_pressure_section(),
+        initial_stress_section(),
         {"load_steps", SectionKind::Section, false, "the load stepping of a quasi-static analysis (required without [time] or [arc_length])",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
         arc_length_section(),

@@ -15,6 +15,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
+#include "gradmpm/mpm/InitialStress.hpp"
 #include "gradmpm/mpm/RankPoints.hpp"
 #include "gradmpm/points/Generate.hpp"
 
@@ -406,19 +407,21 @@ Box<dim> constraint_selection(const CaseFile& cf, const std::string& k, const Gr
   return sel;
 }
 
-/// The components a [[constraints]] block holds ("x", "y", "z").
+/// The displacement components a block lists under `key` ("x", "y", "z"): those a
+/// [[constraints]] block holds, or those a [[ties]] block ties.
 template <int dim>
-std::vector<int> constrained_components(const CaseFile& cf, const std::string& k) {
+std::vector<int> listed_components(const CaseFile& cf, const std::string& k, const std::string& key,
+                                   const std::string& what) {
   std::vector<int> comps;
-  for (const auto& f : cf.string_list(k + ".fix")) {
+  for (const auto& f : cf.string_list(k + "." + key)) {
     int axis = -1;
     for (int d = 0; d < dim; ++d)
       if (f == kAxes[d]) axis = d;
-    cf.require(axis >= 0, k + ".fix",
+    cf.require(axis >= 0, k + "." + key,
                dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
     comps.push_back(axis);
   }
-  cf.require(!comps.empty(), k + ".fix", "at least one component to hold");
+  cf.require(!comps.empty(), k + "." + key, "at least one component to " + what);
   return comps;
 }
 
@@ -442,7 +445,7 @@ void read_constraints(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m)
   for (std::size_t c = 0; c < cf.array_size("constraints"); ++c) {
     const std::string k = fmt::format("constraints[{}]", c);
     const Box<dim> sel = constraint_selection(cf, k, g);
-    const std::vector<int> comps = constrained_components<dim>(cf, k);
+    const std::vector<int> comps = listed_components<dim>(cf, k, "fix", "hold");
     const bool roller = static_cast<int>(comps.size()) < dim;
     Vec<dim> disp = Vec<dim>::Zero();
     if (cf.has(k + ".displacement")) disp = vec<dim>(cf, k + ".displacement");
@@ -472,16 +475,7 @@ void read_ties(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
     const std::string k = fmt::format("ties[{}]", c);
     cf.require(!ranks::distributed(), k, "a run on one rank ([[ties]] are serial)");
     const Box<dim> sel = constraint_selection(cf, k, g);
-    std::vector<int> comps;
-    for (const auto& f : cf.string_list(k + ".components")) {
-      int axis = -1;
-      for (int d = 0; d < dim; ++d)
-        if (f == kAxes[d]) axis = d;
-      cf.require(axis >= 0, k + ".components",
-                 dim == 1 ? "[\"x\"]" : (dim == 2 ? "a list of \"x\", \"y\"" : "a list of \"x\", \"y\", \"z\""));
-      comps.push_back(axis);
-    }
-    cf.require(!comps.empty(), k + ".components", "at least one component to tie");
+    const std::vector<int> comps = listed_components<dim>(cf, k, "components", "tie");
     const double stiffness = read_number(cf, k, mpm_section("ties").key("penalty")) * stiffest_young(m.materials) *
                              std::pow(g.h.minCoeff(), dim - 2);
     int pairs = 0;
@@ -582,6 +576,27 @@ void read_time(const CaseFile& cf, Model<dim>& m) {
                "a ramp time > 0 where a displacement other than 0 is prescribed ([[constraints]])");
   for (const auto& b : m.rigid_boxes)
     cf.require(b.total.isZero(), "time.ramp_time", "a ramp time > 0 where a rigid box moves ([[rigid_boxes]])");
+}
+
+/// [initial_stress]: every point starts from the geostatic stress (mpm/InitialStress.hpp).
+template <int dim>
+void read_initial_stress(const CaseFile& cf, Model<dim>& m) {
+  if (!cf.has_section("initial_stress")) return;
+  const SectionSpec& sec = mpm_section("initial_stress");
+  cf.require(!ranks::distributed(), "initial_stress", "a run on one rank (the overburden is summed over columns of points)");
+  cf.require(vertical_axis<dim>(m.gravity) >= 0, "loads.gravity", "gravity along one grid axis ([initial_stress] needs it)");
+  InitialStressSettings s;
+  cf.require(cf.has("initial_stress.k0"), "initial_stress.k0", sec.key("k0").expected());
+  s.k0 = read_number(cf, sec.name, sec.key("k0"));
+  if (m.pore.active())
+    cf.require(cf.has("initial_stress.water_table"), "initial_stress.water_table",
+               "the water table's elevation (the case has pore pressure)");
+  else
+    cf.require(!cf.has("initial_stress.water_table"), "initial_stress.water_table",
+               "no water table without pore pressure ([pore_pressure] drainage = \"undrained\" or \"coupled\")");
+  if (cf.has("initial_stress.water_table")) s.water_table = read_number(cf, sec.name, sec.key("water_table"));
+  const GeostaticProblem problem = start_geostatic(m, s);
+  cf.require(problem.empty(), "initial_stress." + problem.key, problem.expected);
 }
 
 /// [pore_pressure], the materials' fluid keys and [[pressure_constraints]]
@@ -774,6 +789,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   gradient.linear_solver = newton.linear_solver;
   const MpmOutputSettings output = read_output(cf, m, bodies.total_points);
   m.initialise_state();
+  read_initial_stress(cf, m);  // (writes the states)
   // (one process's share of the machine's estimate, which a run prints beside its peak)
   const double memory = g.memory.estimate(bodies.planned_points, bodies.planned_cells) / g.memory.on_this_machine;
   return MpmCase<dim>{std::move(m), newton, gradient, output, memory};

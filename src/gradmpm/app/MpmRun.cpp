@@ -139,13 +139,12 @@ void write_in_id_order(const fs::path& dir, const fs::path& shared, const std::s
 }
 
 template <int dim>
-void print_step(const StepInfo& info) {
+void print_step(const StepInfo& info, bool inertial) {
   std::string res;
   for (double r : info.residuals) res += fmt::format(" {:.1e}", r);
-  const std::string where = info.time_increment > 0.0
-                                ? fmt::format("t {:.6g}  dt {:.3g}  kinetic {:.4g}", info.time, info.time_increment,
-                                              info.kinetic_energy)
-                                : fmt::format("load {:.4f}", info.load_factor);
+  std::string where = info.time_increment > 0.0 ? fmt::format("t {:.6g}  dt {:.3g}", info.time, info.time_increment)
+                                                : fmt::format("load {:.4f}", info.load_factor);
+  if (inertial) where += fmt::format("  kinetic {:.4g}", info.kinetic_energy);
   fmt::print("  step {:4d}  {}  iterations {:2d}  cuts {}{}  residuals{}{}{}  ({:.2f} s)\n", info.step, where,
              info.phases.iterations, info.cuts,
              info.staggers ? fmt::format("  staggers {}", info.staggers) : "", res,
@@ -265,10 +264,11 @@ class MpmRun {
     const char* wait = std::getenv("OMP_WAIT_POLICY");
     const TimeSettings& t = m_.time;
     const std::string steps =
-        t.dynamic() ? fmt::format("dynamic ({}, {} mass, dt {:g} to t = {:g})",
-                                  t.scheme == TimeSettings::Scheme::Newmark ? "Newmark" : fmt::format("generalised-alpha, rho_inf {:g}", t.rho_inf),
-                                  t.consistent_mass ? "consistent" : "lumped", t.dt, t.end_time)
-                    : fmt::format("{} load step(s)", c_.newton.load_steps);
+        t.inertial() ? fmt::format("dynamic ({}, {} mass, dt {:g} to t = {:g})",
+                                   t.scheme == TimeSettings::Scheme::Newmark ? "Newmark" : fmt::format("generalised-alpha, rho_inf {:g}", t.rho_inf),
+                                   t.consistent_mass ? "consistent" : "lumped", t.dt, t.end_time)
+        : t.dynamic() ? fmt::format("time steps without inertia (dt {:g} to t = {:g})", t.dt, t.end_time)
+                      : fmt::format("{} load step(s)", c_.newton.load_steps);
     fmt::print("gradmpm: {}D implicit MPM, {} points, {} grid nodes, basis {}, {}, {}{} thread(s) (OpenMP {}){}{}\n",
                dim, static_cast<long long>(points_in_all), m_.grid.num_nodes(), to_string(m_.basis), steps,
                ranks::distributed() ? fmt::format("{} MPI ranks of ", ranks::size()) : std::string(),
@@ -340,7 +340,7 @@ class MpmRun {
       if (reports_) out.write_text("reactions.csv", reactions_);
       out.write_text("energy.csv", energy_);
       out.commit();
-      if (!quiet_) print_step<dim>(info);
+      if (!quiet_) print_step<dim>(info, m_.time.inertial());
     }
     if (checkpoints_.due(info)) checkpoint(info);
   }

@@ -16,6 +16,11 @@ class ElasticStrainHistory : public Material {
       : Material(e, rho), vars_{{"elastic_strain", StateVariable::Kind::SymmetricTensor, 0.0, std::move(doc)}} {}
   const std::vector<StateVariable>& state_variables() const override { return vars_; }
   Mat3 elastic_strain(const double* state) const override { return unpack_symmetric(state); }
+  /// The elastic strain whose stress is sigma.
+  bool start_from_stress(const Mat3& sigma, double* state) const override {
+    pack_symmetric(elasticity().strain(sigma), state);
+    return true;
+  }
 
  private:
   std::vector<StateVariable> vars_;

@@ -107,6 +107,11 @@ class Material {
   int state_size() const;
   /// Writes the initial values of every state variable.
   void initial_state(double* state) const;
+  /// Writes the state of a point at rest under the stress `sigma` (F = I, so Cauchy and
+  /// Kirchhoff agree): an initial (geostatic) stress, mpm/InitialStress.hpp. Returns false
+  /// when the law cannot start from a stress. The state need not be admissible: the caller
+  /// checks the stress against the law's surface by an update at dF = I.
+  virtual bool start_from_stress(const Mat3& /*sigma*/, double* /*state*/) const { return false; }
 
  private:
   IsotropicElasticity elasticity_;

@@ -133,6 +133,18 @@ double ModifiedCamClay::elastic_energy_density(const double* state) const {
   return p_.p0 * kt_ * std::expm1(ev / kt_) + p_.shear_modulus * d.squaredNorm();
 }
 
+bool ModifiedCamClay::start_from_stress(const Mat3& sigma, double* state) const {
+  initial_state(state);
+  const double P = -sigma.trace() / 3.0;
+  if (!(P > 0.0)) return true;  // (no pressure: the caller's check refuses the state)
+  const Mat3 s = sigma + P * Mat3::Identity();
+  const double q2 = 1.5 * s.squaredNorm();
+  pack_symmetric(s / (2.0 * p_.shear_modulus) - kt_ * std::log(P / p_.p0) / 3.0 * Mat3::Identity(), state);
+  const double Pc = p_.ocr * (P + q2 / (p_.M * p_.M * P));
+  state[kKappa] = (lt_ - kt_) * std::log(Pc / p_.pc0);
+  return true;
+}
+
 MaterialInfo modified_cam_clay_info() {
   // A table of keys (laid out by hand).
   // clang-format off
@@ -145,6 +157,8 @@ MaterialInfo modified_cam_clay_info() {
        .doc = "p_0, the isotropic effective stress the points start at (compression positive; the body's boundary must carry it)"},
       {.name = "preconsolidation_pressure", .type = KeyType::Number, .min = 0.0, .min_open = true, .allowed = "a pressure >= initial_pressure",
        .doc = "p_c0 (= initial_pressure: normally consolidated)"},
+      {.name = "overconsolidation_ratio", .type = KeyType::Number, .default_value = 1.0, .min = 1.0, .allowed = "a ratio >= 1",
+       .doc = "with [initial_stress]: P_c is this times the pressure where the yield surface through the initial stress meets q = 0 (1: normally consolidated); initial_pressure is then only the elasticity's reference"},
       {.name = "poisson", .type = KeyType::Number, .default_text = "none", .min = -1.0, .max = 0.5, .min_open = true, .max_open = true,
        .allowed = "a Poisson's ratio in (-1, 0.5)", .doc = "G from nu at the initial bulk stiffness p_0 (1 + e0) / kappa (give poisson or shear_modulus)"},
       {.name = "shear_modulus", .type = KeyType::Number, .default_text = "none", .min = 0.0, .min_open = true, .allowed = "a shear modulus > 0",
@@ -165,6 +179,7 @@ MaterialInfo modified_cam_clay_info() {
             p.e0 = in.number("e0");
             p.p0 = in.number("initial_pressure");
             p.pc0 = in.number("preconsolidation_pressure");
+            p.ocr = in.number("overconsolidation_ratio");
             in.require(p.lambda > p.kappa, "lambda", in.spec("lambda").expected());
             in.require(p.pc0 >= p.p0, "preconsolidation_pressure", in.spec("preconsolidation_pressure").expected());
             in.require(in.has("poisson") != in.has("shear_modulus"), "poisson", "either poisson or shear_modulus (one of them)");

@@ -26,6 +26,7 @@ struct CamClayParameters {
   double e0 = 0.0;            ///< the void ratio at the start
   double p0 = 0.0;            ///< the effective pressure at the start (> 0)
   double pc0 = 0.0;           ///< the preconsolidation pressure at the start (>= p0)
+  double ocr = 1.0;           ///< started from a stress: P_c over the surface through it
   double shear_modulus = 0.0; ///< G (constant)
 };
 
@@ -39,6 +40,10 @@ class ModifiedCamClay final : public PlasticLaw {
   void update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const override;
   void tangent(const MaterialResponse& r, int dim, Mat9& A) const override;
   double elastic_energy_density(const double* state) const override;
+  /// The elastic strain of sigma (eps_v^e = kappa~ ln(P / p_0), e = s / 2G) and the
+  /// plastic volume change that puts P_c at the overconsolidation ratio times the
+  /// pressure where the surface through sigma meets q = 0: P + q^2 / (M^2 P).
+  bool start_from_stress(const Mat3& sigma, double* state) const override;
   const CamClayParameters& parameters() const { return p_; }
   /// P(eps_v^e) and P_c(eps_v^p), compression positive.
   double pressure(double eps_v_elastic) const;

@@ -73,6 +73,12 @@ class PlasticLaw : public Material {
   bool finite_strain() const override { return true; }
   const std::vector<StateVariable>& state_variables() const override { return vars_; }
   Mat3 elastic_strain(const double* state) const override { return unpack_symmetric(state); }
+  /// The logarithmic elastic strain whose Kirchhoff stress is sigma (no plastic strain).
+  bool start_from_stress(const Mat3& sigma, double* state) const override {
+    initial_state(state);
+    pack_symmetric(elasticity().strain(sigma), state);
+    return true;
+  }
   bool softens() const override { return law_strength().slope < 0.0; }
   std::shared_ptr<const Material> regularised(double m) const override {
     std::shared_ptr<PlasticLaw> copy = clone();

@@ -222,14 +222,9 @@ class ConsolidationStep final : public NonlinearProblem {
     }
   }
 
-  /// The pressure point p's volume carries: its own, or with F-bar its cell's mean.
-  double pressure_on(int p) const {
-    if (cell_nodes_.empty()) return P_[p];
-    const int c = step_.fbar_cells()->cell(p);
-    double pv = 0.0;
-    for (const int q : step_.fbar_cells()->members()[c]) pv += P_[q] * model_.points.volume[q];
-    return pv / cell_volume_[c];
-  }
+  /// The pressure point p's volume carries: its own, or with F-bar its cell's mean (from
+  /// point_values()).
+  double pressure_on(int p) const { return cell_nodes_.empty() ? P_[p] : cell_P_[step_.fbar_cells()->cell(p)]; }
 
   /// F-bar: each cell's nodes (those of its points' stencils), its points' volume and the
   /// mean of their shape functions Nbar_a,c.
@@ -334,7 +329,7 @@ class ConsolidationStep final : public NonlinearProblem {
       const IsotropicElasticity& el = model_.material_of(p).elasticity();
       const double shear = el.young / (2.0 * (1.0 + el.poisson));
       stab_[p] = model_.pore.stabilisation * V / (2.0 * shear);
-      weight_[p] = f.density * lambda_ * model_.gravity;
+      weight_[p] = f.density * (model_.dead_gravity ? 1.0 : lambda_) * model_.gravity;
     }
   }
 
@@ -450,6 +445,13 @@ class ConsolidationStep final : public NonlinearProblem {
       }
       flux_[p] = grad - weight_[p];
     }
+    if (const FBarCells<dim>* cells = step_.fbar_cells()) {  // each cell's volume-weighted mean P
+      cell_P_.assign(cell_nodes_.size(), 0.0);
+      for (std::size_t c = 0; c < cell_nodes_.size(); ++c) {
+        for (const int q : cells->members()[c]) cell_P_[c] += P_[q] * pts.volume[q];
+        cell_P_[c] /= cell_volume_[c];
+      }
+    }
     std::fill(group_dP_.begin(), group_dP_.end(), 0.0);
     for (int p = 0; p < np; ++p) group_dP_[group_[p]] += stab_[p] * (P_[p] - pts.pore_pressure[p]);
     for (std::size_t g = 0; g < group_dP_.size(); ++g)
@@ -480,6 +482,7 @@ class ConsolidationStep final : public NonlinearProblem {
   // At the last residual()'s iterate:
   Vector du_, dp_;
   std::vector<double> P_, volume_, dv_;
+  std::vector<double> cell_P_;  ///< F-bar: each cell's mean P
   std::vector<Vec<dim>> flux_;
   Vector f_p_;  ///< sum_p P_p v_p grad_x N_a (the solid's numbering)
 };

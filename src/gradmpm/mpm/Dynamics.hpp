@@ -87,11 +87,11 @@ class DynamicStep final : public NonlinearProblem {
     }
     if (initial || af_ > 0.0) {
       // (f_ext - f_int) at t_n on this step's grid: the residual at du = 0 has f_ext at
-      // t_n+1, which is lambda_end / lambda_n times f_ext at t_n.
+      // t_n+1, whose live part is lambda_end / lambda_n times its value at t_n.
       Vector r0;
       step.residual(Vector::Zero(n), r0);
       const double ratio = lambda_end > 0.0 ? lambda_n / lambda_end : 0.0;
-      r0 -= (1.0 - ratio) * step.f_ext();
+      r0 -= (1.0 - ratio) * step.live_load();
       for (int c : constrained) r0[c] = 0.0;
       if (initial) {
         a_n_ = project(r0);

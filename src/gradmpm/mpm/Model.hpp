@@ -119,6 +119,9 @@ struct Model {
   bool fbar = false;                    ///< F-bar against volumetric locking (mpm/FBar.hpp); finite-strain laws only
   double ghost_penalty = 0.0;           ///< alpha of the ghost stabilisation (mpm/GhostPenalty.hpp); 0 = off
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
+  /// Gravity acts in full from the first step, not ramped with the load factor: the points
+  /// start from an initial stress in balance with it ([initial_stress], mpm/InitialStress.hpp).
+  bool dead_gravity = false;
   std::vector<NodalConstraint> constraints;
   /// Planes x_axis = position of roller blocks that hold their normal component (symmetry
   /// planes, frictionless supports): the gradient step holds the odd shear components at

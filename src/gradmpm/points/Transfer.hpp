@@ -149,13 +149,15 @@ Vector nodal_mass(const PointStencils<dim>& st, const MaterialPoints<dim>& point
   return mass;
 }
 
-/// Point p's share of the external force at load factor lambda, eq. (1): f_i += N_i(x_p)
-/// (m_p g + f_p) lambda, dim components per active node in the equation numbering of
-/// `dofs`. Summed over the points by the caller (LoadStep: by the assembler's strips).
+/// Point p's share of the external force, eq. (1): f_i += N_i(x_p) (m_p g g_factor +
+/// f_p lambda), dim components per active node in the equation numbering of `dofs`;
+/// g_factor is lambda, or 1 where gravity is a dead load (an initial stress in balance
+/// with it). Summed over the points by the caller (LoadStep: by the assembler's strips).
 template <int dim, class DofNumbering>
 void add_external_force(const PointStencils<dim>& st, const MaterialPoints<dim>& points, const Vec<dim>& gravity,
-                        double lambda, const DofNumbering& dofs, int p, Vector& f_ext) {
-  const Vec<dim> f = (points.mass[p] * gravity + points.force[p]) * lambda;
+                        double g_factor, double lambda, const DofNumbering& dofs, int p, Vector& f_ext) {
+  const Vec<dim> f = g_factor == lambda ? Vec<dim>((points.mass[p] * gravity + points.force[p]) * lambda)
+                                        : Vec<dim>(points.mass[p] * gravity * g_factor + points.force[p] * lambda);
   for (int a = 0; a < st[p].count; ++a)
     for (int i = 0; i < dim; ++i) f_ext[dofs.dof(st[p].node[a], i)] += st[p].N[a] * f[i];
 }
