@@ -26,7 +26,6 @@ import matplotlib.pyplot as plt
 
 CASE = os.path.join(os.path.dirname(__file__), "..", "examples", "footing_consolidation_2d.toml")
 DAY = 86400.0
-GAMMA_W = 1000.0 * 9.81
 RUNS = {
     "coupled": [],
     "undrained": ["materials.clay.permeability=0.0", "materials.crust.permeability=0.0", "time.end_time=86400.0"],
@@ -63,7 +62,7 @@ def main(gradmpm, out):
     ax1.set_ylabel("settlement under the centre (m)")
     ax1.set_title("Strip footing on Modified Cam-Clay, q = 12 kPa, B = 2 m")
     ax1.legend(fontsize=8)
-    excess = [float(r["p"]) - GAMMA_W * (4.0 - float(r["y"])) for r in coupled[deep]]
+    excess = [float(r["p_excess"]) for r in coupled[deep]]
     ax2.plot(days[1:], [e / 1e3 for e in excess[1:]], "o-", ms=3, color="C3")
     ax2.set_xscale("log")
     ax2.set_xlabel("time (days)")

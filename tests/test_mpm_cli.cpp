@@ -194,7 +194,7 @@ TEST_F(MpmCli, InitialStressStartsTheClayFromItsGeostaticState) {
   // examples/footing_consolidation_2d.toml ([initial_stress], water table at the surface
   // y = 4, both materials 1800 kg/m3): at step 0 the point 674 (X = 0.0625, Y = 1.9375)
   // carries p = rho_w g d and sigma'_v = (rho - rho_w) g d, sigma'_h = K0 sigma'_v,
-  // d = 2.0625, to round-off.
+  // d = 2.0625, to round-off, and no excess pore pressure.
   ASSERT_EQ(run(example("footing_consolidation_2d.toml") + " -q --set time.end_time=86400 --out " + dir.string()), 0)
       << slurp(dir / "stderr");
   const auto tracked = csv_columns(dir / "tracked_points.csv");
@@ -206,6 +206,9 @@ TEST_F(MpmCli, InitialStressStartsTheClayFromItsGeostaticState) {
   EXPECT_NEAR(tracked.at("syy")[row], -sv, 1e-9 * sv);
   EXPECT_NEAR(tracked.at("sxx")[row], -0.6 * sv, 1e-9 * sv);
   EXPECT_NEAR(tracked.at("szz")[row], -0.6 * sv, 1e-9 * sv);
+  EXPECT_NEAR(tracked.at("p_excess")[row], 0.0, 1e-9 * p);  // (p less the hydrostatic pressure)
+  const auto final_points = csv_columns(dir / "points_final.csv");
+  ASSERT_TRUE(final_points.count("p_excess"));
 }
 
 TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {

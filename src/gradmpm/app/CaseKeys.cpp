@@ -227,16 +227,16 @@ SectionSpec pore_pressure_section() {
            .doc = "`drained`: no pore pressure (the laws' stress is the total stress); `undrained`: p without flow (k = 0), in load steps; `coupled`: consolidation, Darcy flow over time steps ([time] with inertia = false)"},
           {.name = "stabilisation", .type = K::Number, .default_value = PoreSettings{}.stabilisation, .min = 0.0, .max = 1e3,
            .allowed = "a number from 0 (off) to 1000",
-           .doc = "tau of the polynomial pressure projection tau / (2 G) (q - Pi q)(dp - Pi dp) (Dohrmann & Bochev 2004; White & Borja 2008), Pi the mean over the points sharing a stencil: the equal-order pressure's stabilisation where flow is slow (undrained loading, the first steps)"}}};
+           .doc = "tau of the polynomial pressure projection tau / (2 G) (q - Pi q)(dp - Pi dp) (Dohrmann & Bochev 2004; White & Borja 2008), Pi the mean over the points sharing a stencil: the equal-order pressure's stabilisation where flow is slow (undrained loading, the first steps)"},
+          {.name = "water_table", .type = K::Number, .default_text = "none",
+           .doc = "the water table's elevation (its coordinate against gravity, which must be along one axis): below it the hydrostatic p = rho_w |g| depth is where [initial_stress] starts p (required there) and what p_excess (excess_pore_pressure) in the outputs is measured from"}}};
 }
 
 /// [initial_stress] (mpm_sections).
 SectionSpec initial_stress_section() {
   return SectionSpec{"initial_stress", SectionKind::Section, false, "geostatic initial stresses (the K0 procedure): the points start at rest under their weight, gravity acts in full from the first step (docs/pore-pressure.md)",
          {{.name = "k0", .type = K::Number, .min = 0.0, .max = 10.0, .min_open = true, .allowed = "a ratio in (0, 10]",
-           .doc = "K0 = sigma'_h / sigma'_v (e.g. 1 - sin phi', Jaky; nu / (1 - nu) for an elastic body under its weight)"},
-          {.name = "water_table", .type = K::Number, .default_text = "none",
-           .doc = "with pore pressure (required then): the water table's elevation (its coordinate along -gravity); below it p = rho_w |g| depth"}}};
+           .doc = "K0 = sigma'_h / sigma'_v (e.g. 1 - sin phi', Jaky; nu / (1 - nu) for an elastic body under its weight); with pore pressure, p starts hydrostatic below [pore_pressure] water_table"}}};
 }
 
 /// The pore fluid's keys of every [materials.NAME] section (read with [pore_pressure]).

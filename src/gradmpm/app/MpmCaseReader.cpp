@@ -589,14 +589,10 @@ void read_initial_stress(const CaseFile& cf, Model<dim>& m) {
   cf.require(cf.has("initial_stress.k0"), "initial_stress.k0", sec.key("k0").expected());
   s.k0 = read_number(cf, sec.name, sec.key("k0"));
   if (m.pore.active())
-    cf.require(cf.has("initial_stress.water_table"), "initial_stress.water_table",
-               "the water table's elevation (the case has pore pressure)");
-  else
-    cf.require(!cf.has("initial_stress.water_table"), "initial_stress.water_table",
-               "no water table without pore pressure ([pore_pressure] drainage = \"undrained\" or \"coupled\")");
-  if (cf.has("initial_stress.water_table")) s.water_table = read_number(cf, sec.name, sec.key("water_table"));
+    cf.require(m.pore.water_table.has_value(), "pore_pressure.water_table",
+               "the water table's elevation ([initial_stress] with pore pressure starts p from it)");
   const GeostaticProblem problem = start_geostatic(m, s);
-  cf.require(problem.empty(), "initial_stress." + problem.key, problem.expected);
+  cf.require(problem.empty(), problem.key, problem.expected);
 }
 
 /// [pore_pressure], the materials' fluid keys and [[pressure_constraints]]
@@ -640,6 +636,13 @@ void read_pore_pressure(const CaseFile& cf, const std::vector<std::string>& name
     pore.fluids.push_back(f);
   }
   if (m.gravity.norm() > 0.0) pore.gravity = m.gravity.norm();
+  if (cf.has("pore_pressure.water_table")) {
+    cf.require(pore.active(), "pore_pressure.water_table",
+               "no water table without pore pressure ([pore_pressure] drainage = \"undrained\" or \"coupled\")");
+    cf.require(vertical_axis<dim>(m.gravity) >= 0, "loads.gravity",
+               "gravity along one grid axis ([pore_pressure] water_table needs it)");
+    pore.water_table = read_number(cf, "pore_pressure", mpm_section("pore_pressure").key("water_table"));
+  }
   const double tol = 1e-9 * g.h.minCoeff();
   for (std::size_t c = 0; c < cf.array_size("pressure_constraints"); ++c) {
     const std::string k = fmt::format("pressure_constraints[{}]", c);

@@ -47,11 +47,13 @@ void write_now(const fs::path& dir, const std::string& name, const std::string& 
 const std::vector<std::string> kFinalColumns = {"id", "original_position", "position", "stress", "volume", "mass"};
 const std::vector<std::string> kTrackedColumns = {"id", "position", "stress"};
 
-/// tracked_points.csv's columns: kTrackedColumns, the state variables, and p with pore pressure.
+/// tracked_points.csv's columns: kTrackedColumns, the state variables, and p with pore
+/// pressure (and p_excess with a water table).
 template <int dim>
 std::vector<std::string> tracked_columns(const PointColumns<dim>& table, const Model<dim>& m) {
   std::vector<std::string> columns = table.with_state(kTrackedColumns);
   if (m.pore.active()) columns.push_back("pore_pressure");
+  if (m.pore.water_table) columns.push_back("excess_pore_pressure");
   return columns;
 }
 const std::vector<std::string> kGradientColumns = {
@@ -363,6 +365,7 @@ class MpmRun {
     std::vector<std::string> names = vtu_point_columns(table);
     if (dynamic_) names.push_back("velocity");
     if (m_.pore.active()) names.push_back("pore_pressure");
+    if (m_.pore.water_table) names.push_back("excess_pore_pressure");
     const std::vector<VtkField> grid_fields = grid_vtk_fields(m_, info);  // (collective)
     // A distributed run: each rank its piece of each (its points, its cells of the grid),
     // and rank 0 the .pvtu files naming them.
@@ -499,6 +502,7 @@ class MpmRun {
     final_columns.push_back("dissipation");  // last: the columns before it keep their places
     if (dynamic_) final_columns.push_back("velocity");
     if (m_.pore.active()) final_columns.push_back("pore_pressure");
+    if (m_.pore.water_table) final_columns.push_back("excess_pore_pressure");
     write_in_id_order(dir_, options_.pieces, "points_final.csv", table.csv(final_columns));
     if (gradient_step_.fields())
       write_in_id_order(dir_, options_.pieces, "points_gradient.csv", table.csv(kGradientColumns));

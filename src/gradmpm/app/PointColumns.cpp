@@ -8,6 +8,7 @@
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/core/SymmetricTensor.hpp"
 #include "gradmpm/io/Vtk.hpp"
+#include "gradmpm/mpm/InitialStress.hpp"
 
 namespace gradmpm {
 
@@ -59,6 +60,9 @@ PointColumns<dim>::PointColumns(const Model<dim>& m, const EnrichedFields<dim>* 
        [&P](int p, double* o) { put<dim>(P.velocity[p], o); }});  // (a dynamic run's outputs)
   add({"pore_pressure", Kind::Scalar, {"p"}, false,
        [&P](int p, double* o) { *o = P.pore_pressure[p]; }});  // (a run with pore pressure)
+  add({"excess_pore_pressure", Kind::Scalar, {"p_excess"}, false, [&m](int p, double* o) {
+         *o = m.points.pore_pressure[p] - hydrostatic_pressure(m, p);
+       }});  // (a run with a water table)
   if (g) {
     add({"gradient_displacement", Kind::Vector, suffixed("u", "_g", false), false,
          [g](int p, double* o) { put<dim>(g->displacement[p], o); }});

@@ -5,8 +5,9 @@
 //   sigma_v = |g| (sum of the masses above it in its column of grid cells + half its own
 //             row's) / the column's cross-section,
 // which is rho g d for a point d below the surface of a uniform body, and follows layers
-// and a sloping surface column by column. Below the water table the pore pressure is
-// hydrostatic, p = rho_w |g| (z_w - z), and the effective stresses are
+// and a sloping surface column by column. Below the water table ([pore_pressure]
+// water_table) the pore pressure is hydrostatic, p = rho_w |g| (z_w - z), and the
+// effective stresses are
 //   sigma'_v = sigma_v - p,  sigma'_h = K0 sigma'_v (every horizontal direction, the
 //   out-of-plane one included), no shear.
 // Each law writes the state that carries sigma' (Material::start_from_stress), and gravity
@@ -14,7 +15,6 @@
 // body starts in balance and the load steps add only the other loads.
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,8 +26,7 @@
 namespace gradmpm {
 
 struct InitialStressSettings {
-  double k0 = 1.0;                    ///< sigma'_h / sigma'_v
-  std::optional<double> water_table;  ///< its elevation (along -g); none: no pore pressure
+  double k0 = 1.0;  ///< sigma'_h / sigma'_v
 };
 
 /// The axis gravity acts along, or -1 unless it acts along exactly one grid axis.
@@ -37,6 +36,18 @@ int vertical_axis(const Vec<dim>& gravity) {
   for (int d = 0; d < dim; ++d)
     if (gravity[d] != 0.0) axis = axis < 0 ? d : dim;
   return axis < dim ? axis : -1;
+}
+
+/// The hydrostatic pore pressure at point p's current place: rho_w |g| times its depth below
+/// the water table (PoreSettings::water_table, which needs gravity along one axis), 0
+/// above it or without a water table.
+template <int dim>
+double hydrostatic_pressure(const Model<dim>& m, int p) {
+  const int v = vertical_axis<dim>(m.gravity);
+  if (!m.pore.water_table || v < 0) return 0.0;
+  const double up = m.gravity[v] < 0.0 ? 1.0 : -1.0;
+  const double depth = std::max(0.0, up * (*m.pore.water_table - m.points.position[p][v]));
+  return m.pore.fluids[m.points.material[p]].density * std::abs(m.gravity[v]) * depth;
 }
 
 /// The total vertical stress (compression positive) at every point: the weight above it in
@@ -50,16 +61,24 @@ std::vector<double> overburden(const Model<dim>& m, int v) {
   double area = 1.0;
   for (int d = 0; d < dim; ++d)
     if (d != v) area *= h[d];
-  std::map<std::vector<int>, std::vector<int>> columns;  // cell indices across -> points
+  // The points of each column of cells: its number counts the cells across (v skipped).
+  const auto cells = m.grid.cells();
+  int count = 1;
+  for (int d = 0; d < dim; ++d)
+    if (d != v) count *= cells[d];
+  std::vector<std::vector<int>> columns(count);
   for (int p = 0; p < pts.size(); ++p) {
-    std::vector<int> key;
-    for (int d = 0; d < dim; ++d)
-      if (d != v) key.push_back(static_cast<int>(std::floor((pts.position[p][d] - m.grid.origin()[d]) / h[d])));
-    columns[key].push_back(p);
+    int column = 0;
+    for (int d = dim - 1; d >= 0; --d)
+      if (d != v) {
+        const int i = static_cast<int>(std::floor((pts.position[p][d] - m.grid.origin()[d]) / h[d]));
+        column = column * cells[d] + std::clamp(i, 0, cells[d] - 1);
+      }
+    columns[column].push_back(p);
   }
   std::vector<double> sigma(pts.size(), 0.0);
   const double tol = 1e-9 * h[v];
-  for (auto& [key, members] : columns) {
+  for (auto& members : columns) {
     std::sort(members.begin(), members.end(),
               [&](int a, int b) { return up * pts.position[a][v] > up * pts.position[b][v]; });
     double above = 0.0;
@@ -76,7 +95,7 @@ std::vector<double> overburden(const Model<dim>& m, int v) {
   return sigma;
 }
 
-/// What start_geostatic found wrong: the [initial_stress] key to blame and what it needed;
+/// What start_geostatic found wrong: the case's key to blame and what it needed;
 /// empty when all is well.
 struct GeostaticProblem {
   std::string key, expected;
@@ -90,8 +109,7 @@ struct GeostaticProblem {
 template <int dim>
 GeostaticProblem start_geostatic(Model<dim>& m, const InitialStressSettings& s) {
   const int v = vertical_axis<dim>(m.gravity);
-  if (v < 0) return {"k0", "[loads] gravity along one grid axis"};
-  const double g = std::abs(m.gravity[v]), up = m.gravity[v] < 0.0 ? 1.0 : -1.0;
+  if (v < 0) return {"loads.gravity", "gravity along one grid axis ([initial_stress] needs it)"};
   const std::vector<double> sigma_v = overburden(m, v);
   auto& pts = m.points;
   if (!m.state_initialised()) m.initialise_state();
@@ -99,25 +117,26 @@ GeostaticProblem start_geostatic(Model<dim>& m, const InitialStressSettings& s) 
   std::vector<double> trial(static_cast<std::size_t>(pts.state_stride));
   for (int p = 0; p < pts.size(); ++p) {
     const Material& mat = m.material_of(p);
-    std::string at;
-    for (int d = 0; d < dim; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", pts.position[p][d]);
-    const std::string where = fmt::format("at the point ({}) of material model \"{}\"", at, mat.model());
-    double pore = 0.0;  // below the water table: hydrostatic
-    if (s.water_table && m.pore.active())
-      pore = m.pore.fluids[pts.material[p]].density * g * std::max(0.0, up * (*s.water_table - pts.position[p][v]));
+    const auto where = [&] {  // (only for a message)
+      std::string at;
+      for (int d = 0; d < dim; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", pts.position[p][d]);
+      return fmt::format("at the point ({}) of material model \"{}\"", at, mat.model());
+    };
+    const double pore = m.pore.active() ? hydrostatic_pressure(m, p) : 0.0;
     const double effective = sigma_v[p] - pore;
     if (!(effective > 0.0))
-      return {s.water_table ? "water_table" : "k0",
-              fmt::format("an effective vertical stress > 0 {} (it is {:.6g}: a water table above the ground?)", where,
-                          effective)};
+      return {m.pore.water_table ? "pore_pressure.water_table" : "initial_stress.k0",
+              fmt::format("an effective vertical stress > 0 {} (it is {:.6g}: a water table above the ground, or "
+                          "nothing heavy above it?)",
+                          where(), effective)};
     Mat3 stress = Mat3::Zero();
     for (int d = 0; d < 3; ++d) stress(d, d) = -(d == v ? 1.0 : s.k0) * effective;
     double* state = pts.state_of(p);
-    if (!mat.start_from_stress(stress, state)) return {"k0", "laws that can start from a stress (not " + where + ")"};
+    if (!mat.start_from_stress(stress, state)) return {"initial_stress.k0", "laws that can start from a stress (not " + where() + ")"};
     // At rest (dF = I) the law must give the stress back: inside or on its yield surface.
     mat.update(Mat3::Identity(), state, trial.data(), response);
     if (!((response.stress - stress).norm() <= 1e-8 * stress.norm()))
-      return {"k0", fmt::format("a K0 stress inside the yield surface {} (sigma'_v = {:.6g})", where, effective)};
+      return {"initial_stress.k0", fmt::format("a K0 stress inside the yield surface {} (sigma'_v = {:.6g})", where(), effective)};
     pts.stress[p] = stress;
     pts.pore_pressure[p] = pore;
     pts.work[p] = m.elastic_energy(p);  // (the stored energy it starts with: nothing dissipated yet)

@@ -3,6 +3,7 @@
 // [[pressure_constraints]]; docs/pore-pressure.md): what the coupled displacement-pressure
 // step (mpm/Consolidation.hpp) needs besides the solid's model.
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace gradmpm {
@@ -51,6 +52,10 @@ struct PoreSettings {
   /// |g| of gamma_w = rho_w |g|: the case's gravity, or 9.80665 where it has none (a
   /// weightless analysis still needs gamma_w to turn k into a permeability).
   double gravity = 9.80665;
+  /// The water table's elevation (its coordinate against gravity): the hydrostatic pressure
+  /// below it is where [initial_stress] starts p and what the excess pore pressure is
+  /// measured from (mpm/InitialStress.hpp). None: not given.
+  std::optional<double> water_table;
 
   bool active() const { return drainage != Drainage::Drained; }
   bool flows() const { return drainage == Drainage::Coupled; }
