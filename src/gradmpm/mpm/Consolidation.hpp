@@ -310,7 +310,7 @@ class ConsolidationStep final : public NonlinearProblem {
 
   /// Each point's storage S V, mobility dt k(n) / gamma_w V (n at the step's start),
   /// projection weight tau V / (2 G),
-  /// and the fluid's weight rho_w g (at the step's load factor).
+  /// and the fluid's weight rho_w g (at the step's load factor; in full where gravity is a dead load).
   void point_coefficients() {
     const auto& pts = model_.points;
     const int np = pts.size();
@@ -468,7 +468,7 @@ class ConsolidationStep final : public NonlinearProblem {
   SparseMatrix tangent_;
   Vector p_n_;  ///< p_n at the active nodes
   std::vector<double> storage_, mobility_, stab_;
-  std::vector<Vec<dim>> weight_;  ///< rho_w g at the step's load factor
+  std::vector<Vec<dim>> weight_;  ///< rho_w g at the step's load factor (in full: a dead gravity)
   std::vector<int> group_;        ///< each point's projection group
   std::vector<std::array<double, Stencil<dim>::capacity>> group_N_;  ///< its stab-weighted mean N
   std::vector<double> group_weight_, group_dP_;
