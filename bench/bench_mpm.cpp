@@ -25,8 +25,10 @@
 //              refined by a factor; r = 12 is 1.2e5 dof
 //   biaxial_2d examples/biaxial_2d.toml (softening von Mises, implicit-gradient
 //              regularisation) refined by a factor, in 10 load steps, so that step 2 is past
-//              the peak: the band is forming; r = 7 is 1.1e5 dof. Run twice: regularised
-//              (biaxial_2d) and with the [regularisation] section removed (biaxial_2d_classical)
+//              the peak: the band is forming; r = 7 is 1.1e5 dof. Run three times: regularised
+//              and staggered (biaxial_2d), regularised and monolithic (biaxial_2d_monolithic:
+//              kappa_bar a nodal unknown beside du), and with the [regularisation] section
+//              removed (biaxial_2d_classical)
 // For each size the case's load steps are solved up to the reported one (--step K, 2 by
 // default) and that step's phases are reported per Newton iteration. The first step is
 // not representative: it starts from points at their generated, cell-aligned positions,
@@ -356,6 +358,13 @@ int main(int argc, char** argv) {
       bench<2>("biaxial_2d", CaseFile::load(biaxial_case, refined), csv, threads);
     } catch (const std::exception& e) {
       fmt::print("biaxial_2d r = {}: {}\n", r, e.what());
+    }
+    try {  // the same, kappa_bar beside du in one Newton iteration (mpm/GradientCoupling.hpp)
+      std::vector<std::string> monolithic = refined;
+      monolithic.push_back("regularisation.coupling=monolithic");
+      bench<2>("biaxial_2d_monolithic", CaseFile::load(biaxial_case, monolithic), csv, threads);
+    } catch (const std::exception& e) {
+      fmt::print("biaxial_2d_monolithic r = {}: {}\n", r, e.what());
     }
     try {
       CaseFile classical = CaseFile::load(biaxial_case, refined);

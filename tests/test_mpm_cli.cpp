@@ -12,7 +12,11 @@
 //    [load_steps] or [arc_length], or a prescribed displacement without a ramp, is
 //    refused with exit 2 and the key named;
 //  - a consolidation case writes p on the points and the grid; [initial_stress] starts
-//    the points at their geostatic effective stress and hydrostatic pore pressure.
+//    the points at their geostatic effective stress and hydrostatic pore pressure;
+//  - consolidation.csv gives a point set's mean excess pore pressure and degree of
+//    consolidation: on Terzaghi's column (examples/consolidation_1d.toml) the mean is
+//    Terzaghi's p_0 (1 - U(T_v)) within 1 % of p_0 at T_v = 0.05, 0.2 and 1, and the degree
+//    is 1 - mean / peak; [[point_sets]] without pore pressure is refused.
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
@@ -209,6 +213,39 @@ TEST_F(MpmCli, InitialStressStartsTheClayFromItsGeostaticState) {
   EXPECT_NEAR(tracked.at("p_excess")[row], 0.0, 1e-9 * p);  // (p less the hydrostatic pressure)
   const auto final_points = csv_columns(dir / "points_final.csv");
   ASSERT_TRUE(final_points.count("p_excess"));
+}
+
+TEST_F(MpmCli, ConsolidationCsvGivesTerzaghisDegreeOfConsolidation) {
+  ASSERT_EQ(run(example("consolidation_1d.toml") + " -q --out " + dir.string()), 0) << slurp(dir / "stderr");
+  const auto c = csv_columns(dir / "consolidation.csv");
+  // c_v = 1 and H = 1: T_v = t; p_0 = 0.99819 q (the example's header), q = 1e4.
+  const double pi = std::acos(-1.0), p0 = 1e4 / 1e7 / (1.0 / 1e7 + 0.4 / 2.2e9);
+  const auto terzaghi_U = [pi](double T) {
+    double u = 1.0;
+    for (int k = 0; k < 4000; ++k) {
+      const double M = pi * (2 * k + 1) / 2.0;
+      u -= 2.0 / (M * M) * std::exp(-M * M * T);
+    }
+    return u;
+  };
+  const auto& t = c.at("time");
+  const auto& mean = c.at("mean_excess_pore_pressure");
+  const auto& degree = c.at("degree_of_consolidation");
+  ASSERT_EQ(c.at("points")[0], 320);  // (every point of the column)
+  EXPECT_EQ(mean[0], 0.0);  // (step 0: before the load)
+  const double peak = *std::max_element(mean.begin(), mean.end());
+  EXPECT_EQ(peak, mean[1]);  // (the first step: from there it drains)
+  for (const double T : {0.05, 0.2, 1.0}) {
+    std::size_t k = 0;
+    while (k < t.size() && std::abs(t[k] - T) > 1e-9) ++k;
+    ASSERT_LT(k, t.size()) << T;
+    const double expected = p0 * (1.0 - terzaghi_U(T));
+    std::cout << "T_v = " << T << ": mean excess " << mean[k] << " (Terzaghi " << expected << "), degree "
+              << degree[k] << " (1 - mean / peak " << 1.0 - mean[k] / peak << ", Terzaghi's U " << terzaghi_U(T)
+              << ")\n";
+    EXPECT_NEAR(mean[k], expected, 0.01 * p0) << T;
+    EXPECT_NEAR(degree[k], 1.0 - mean[k] / peak, 1e-12) << T;
+  }
 }
 
 TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {

@@ -128,6 +128,7 @@ void read_regularisation(const CaseFile& cf, const std::vector<std::string>& nam
   }
   m.regularisation.length_scale = read_number(cf, sec.name, sec.key("length_scale"));
   m.regularisation.start_from_points = read_string(cf, sec.name, sec.key("history")) == "points";
+  m.regularisation.monolithic = read_string(cf, sec.name, sec.key("coupling")) == "monolithic";
   m.regularisation.max_iterations = static_cast<int>(read_integer(cf, sec.name, sec.key("max_iterations")));
   m.regularisation.tolerance = read_number(cf, sec.name, sec.key("tolerance"));
   const double weight = read_number(cf, sec.name, sec.key("nonlocal_weight"));
@@ -580,8 +581,15 @@ void read_time(const CaseFile& cf, Model<dim>& m) {
 
 /// [initial_stress]: every point starts from the geostatic stress (mpm/InitialStress.hpp).
 template <int dim>
-void read_initial_stress(const CaseFile& cf, Model<dim>& m) {
-  if (!cf.has_section("initial_stress")) return;
+void read_initial_stress(const CaseFile& cf, const std::vector<std::string>& names, Model<dim>& m) {
+  if (!cf.has_section("initial_stress")) {
+    // (Modified Cam-Clay's ratio sets P_c from the initial stress; without one it would be ignored)
+    for (const std::string& name : names) {
+      const std::string key = "materials." + name + ".overconsolidation_ratio";
+      cf.require(!cf.has(key), key, "no such key without [initial_stress] (P_c starts at pc0 then)");
+    }
+    return;
+  }
   const SectionSpec& sec = mpm_section("initial_stress");
   cf.require(!ranks::distributed(), "initial_stress", "a run on one rank (the overburden is summed over columns of points)");
   cf.require(vertical_axis<dim>(m.gravity) >= 0, "loads.gravity", "gravity along one grid axis ([initial_stress] needs it)");
@@ -666,6 +674,40 @@ void read_pore_pressure(const CaseFile& cf, const std::vector<std::string>& name
                "is not built");
   else
     cf.require(!m.time.inertial(), "time.inertia", "inertia = false with pore pressure (dynamic u-p is not built)");
+}
+
+/// [[point_sets]]: the points in each box (at least one), for the consolidation reports.
+template <int dim>
+void read_point_sets(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
+  const double tol = 1e-9 * g.h.minCoeff();
+  const SectionSpec& spec = mpm_section("point_sets");
+  for (std::size_t c = 0; c < cf.array_size("point_sets"); ++c) {
+    const std::string k = fmt::format("point_sets[{}]", c);
+    cf.require(m.pore.active(), k,
+               "a case with pore pressure ([pore_pressure] drainage = \"undrained\" or \"coupled\"): a point set "
+               "reports its degree of consolidation");
+    PointSet set{read_string(cf, k, spec.key("name")), {}};
+    cf.require(!set.name.empty() && set.name.find_first_of(",\n\"") == std::string::npos, k + ".name",
+               "a name without commas, quotes or newlines");
+    for (const PointSet& other : m.point_sets)
+      cf.require(other.name != set.name, k + ".name", "a name no other point set has");
+    const Box<dim> box = read_box<dim>(cf, k);
+    for (int p = 0; p < m.points.size(); ++p)
+      if (box.contains(m.points.position[p], tol)) set.points.push_back(p);
+    cf.require(!set.points.empty(), k + ".min", "a box that holds at least one material point");
+    m.point_sets.push_back(std::move(set));
+  }
+}
+
+/// regularisation.coupling = "monolithic" solves quasi-static load steps on one rank.
+template <int dim>
+void check_monolithic_coupling(const CaseFile& cf, const NewtonSettings& newton, const Model<dim>& m) {
+  if (!m.regularisation.monolithic) return;
+  const std::string key = "regularisation.coupling";
+  cf.require(!ranks::distributed(), key, "\"staggered\" in a run on more than one rank (the monolithic step is serial)");
+  cf.require(!newton.arc_length.enabled, key, "\"staggered\" with [arc_length]");
+  cf.require(!m.time.dynamic(), key, "\"staggered\" with [time] (the monolithic step is a quasi-static load step's)");
+  cf.require(!m.pore.active(), key, "\"staggered\" with pore pressure");
 }
 
 /// [arc_length] method = "relative-displacement": the grid nodes nearest `from` and `to`.
@@ -788,11 +830,13 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
     cf.require(m.rigid_boxes.empty(), "arc_length",
                "no [[rigid_boxes]] with arc-length control (they move with load steps only)");
   read_pore_pressure(cf, names, g, newton, m);
+  check_monolithic_coupling(cf, newton, m);
+  read_point_sets(cf, g, m);
   GradientSettings gradient = gradient_settings;
   gradient.linear_solver = newton.linear_solver;
   const MpmOutputSettings output = read_output(cf, m, bodies.total_points);
   m.initialise_state();
-  read_initial_stress(cf, m);  // (writes the states)
+  read_initial_stress(cf, names, m);  // (writes the states)
   // (one process's share of the machine's estimate, which a run prints beside its peak)
   const double memory = g.memory.estimate(bodies.planned_points, bodies.planned_cells) / g.memory.on_this_machine;
   return MpmCase<dim>{std::move(m), newton, gradient, output, memory};

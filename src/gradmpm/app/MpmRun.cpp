@@ -3,7 +3,8 @@
 //   points_NNNN.vtu, grid_NNNN.vtu, points.pvd, grid.pvd   every output.vtk_every steps
 //     (on N MPI ranks points_NNNN.pvtu and one piece points_NNNN_R.vtu per rank)
 //   newton_history.csv, tracked_points.csv, reactions.csv,
-//   energy.csv (work, elastic energy, dissipation)          after every step
+//   energy.csv (work, elastic energy, dissipation),
+//   consolidation.csv (with [[point_sets]])                after every step
 //   load_displacement.png                                  at the end, with named constraints
 //   points_final.csv, points_gradient.csv                  at the end
 //   column_check.csv, column.png                           with output.check = "column"
@@ -30,6 +31,7 @@
 #include "gradmpm/io/Python.hpp"
 #include "gradmpm/io/StagedOutputs.hpp"
 #include "gradmpm/io/Vtk.hpp"
+#include "gradmpm/mpm/InitialStress.hpp"
 
 namespace gradmpm {
 
@@ -221,6 +223,8 @@ class MpmRun {
                join(tracked_table_.csv_header(tracked_columns_)) + "\n";
     reports_ = !m_.node_sets.empty();
     for (const auto& b : m_.rigid_boxes) reports_ = reports_ || !b.name.empty();
+    consolidation_ = std::string(dynamic_ ? "step,time,load_factor," : "step,load_factor,") +
+                     "name,points,mean_excess_pore_pressure,degree_of_consolidation\n";
   }
 
   void run() {
@@ -286,6 +290,10 @@ class MpmRun {
     tracked_ = a.text("outputs/tracked_points");
     reactions_ = a.text("outputs/reactions");
     energy_ = a.text("outputs/energy");
+    if (!m_.point_sets.empty()) {
+      consolidation_ = a.text("outputs/consolidation");
+      peak_excess_ = a.reals("outputs/consolidation_peak", static_cast<long long>(m_.point_sets.size()));
+    }
     a.get_objects("outputs/block_displacement", static_cast<long long>(block_u_.size()), block_u_);
     pvd_points_ = get_series(a, "outputs/points_pvd");
     pvd_grid_ = get_series(a, "outputs/grid_pvd");
@@ -309,6 +317,10 @@ class MpmRun {
     a.put_text("outputs/tracked_points", tracked_);
     a.put_text("outputs/reactions", reactions_);
     a.put_text("outputs/energy", energy_);
+    if (!m_.point_sets.empty()) {
+      a.put_text("outputs/consolidation", consolidation_);
+      a.put("outputs/consolidation_peak", peak_excess_);
+    }
     a.put_objects("outputs/block_displacement", block_u_);
     put_series(a, "outputs/points_pvd", pvd_points_);
     put_series(a, "outputs/grid_pvd", pvd_grid_);
@@ -319,6 +331,7 @@ class MpmRun {
     if (info) react(*info);
     track(step, lambda, time);
     balance(step, lambda, time);
+    consolidate(step, lambda, time);
     if (output_.vtk_every > 0 && (step % output_.vtk_every == 0 || (info && info->last)))
       write_vtk(step, dynamic_ ? time : lambda, info);
   }
@@ -341,6 +354,7 @@ class MpmRun {
       if (!output_.track.empty()) out.write_text("tracked_points.csv", tracked_);
       if (reports_) out.write_text("reactions.csv", reactions_);
       out.write_text("energy.csv", energy_);
+      if (!m_.point_sets.empty()) out.write_text("consolidation.csv", consolidation_);
       out.commit();
       if (!quiet_) print_step<dim>(info, m_.time.inertial());
     }
@@ -465,6 +479,27 @@ class MpmRun {
                    sums[0] - sums[1], dynamic_ ? fmt::format(",{}", sums[2]) : std::string());
   }
 
+  /// Each point set's mean excess pore pressure (weighted by the points' volumes) and its
+  /// degree of consolidation U = 1 - mean / peak, peak the mean of largest size so far: the
+  /// share of the excess pressure the set has lost since its peak (Terzaghi's average
+  /// degree of consolidation where the load comes at once).
+  void consolidate(int step, double lambda, double time) {
+    if (m_.point_sets.empty()) return;
+    peak_excess_.resize(m_.point_sets.size(), 0.0);
+    for (std::size_t s = 0; s < m_.point_sets.size(); ++s) {
+      double weighted = 0.0, volume = 0.0;
+      for (const int p : m_.point_sets[s].points) {
+        weighted += m_.points.volume[p] * (m_.points.pore_pressure[p] - hydrostatic_pressure(m_, p));
+        volume += m_.points.volume[p];
+      }
+      const double mean = weighted / volume;
+      if (std::abs(mean) > std::abs(peak_excess_[s])) peak_excess_[s] = mean;
+      const double degree = peak_excess_[s] != 0.0 ? 1.0 - mean / peak_excess_[s] : 0.0;
+      fmt::format_to(std::back_inserter(consolidation_), "{},{},{},{},{}\n", lead(step, lambda, time),
+                     m_.point_sets[s].name, m_.point_sets[s].points.size(), mean, degree);
+    }
+  }
+
   void track(int step, double lambda, double time) {
     const std::vector<double> first =
         dynamic_ ? std::vector<double>{double(step), time, lambda} : std::vector<double>{double(step), lambda};
@@ -562,6 +597,8 @@ class MpmRun {
   std::string tracked_;
   std::string reactions_ = "step,load,name,rx,ry,rz,ux,uy,uz\n";
   std::string energy_ = "step,load_factor,work,elastic_energy,dissipation\n";
+  std::string consolidation_;        ///< consolidation.csv ([[point_sets]])
+  std::vector<double> peak_excess_;  ///< per point set: its mean excess pore pressure of largest size so far
   std::vector<Vec<dim>> block_u_;
   bool reports_ = false;
 };

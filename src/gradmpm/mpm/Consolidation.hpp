@@ -40,6 +40,7 @@
 
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/mpm/LoadStep.hpp"
+#include "gradmpm/mpm/NodeBlocks.hpp"
 
 namespace gradmpm::detail {
 
@@ -59,7 +60,7 @@ class ConsolidationStep final : public NonlinearProblem {
         lambda_(lambda_end) {
     if (ranks::distributed()) throw std::logic_error("the coupled u-p step runs on one rank");
     omega_ = stiffest_young(model.materials) / model.grid.cell_size().minCoeff();
-    expand_pattern(step.pattern());
+    tangent_ = grown_pattern<dim, nc>(step.pattern(), step.dofs().num_active_nodes());
     if (const FBarCells<dim>* cells = step.fbar_cells()) cell_means(*cells);
     nodal_pressure();
     point_coefficients();
@@ -133,7 +134,7 @@ class ConsolidationStep final : public NonlinearProblem {
   SparseMatrix& tangent(bool /*share*/) override {
     const SparseMatrix& K = step_.tangent(false);
     std::fill(tangent_.valuePtr(), tangent_.valuePtr() + tangent_.nonZeros(), 0.0);
-    copy_solid(K);
+    add_node_blocks<dim, nc>(K, tangent_);
     assembler_.add_matrix(tangent_, [&](int p, const Stencil<dim>& s, typename Assembler<dim, nc>::LocalMatrix& Ke) {
       const auto& G = step_.gradients(p);
       const bool finite = model_.material_of(p).finite_strain();
@@ -186,42 +187,6 @@ class ConsolidationStep final : public NonlinearProblem {
   }
 
  private:
-  /// The combined pattern: each node block of the solid's (dim x dim) grown to nc x nc.
-  void expand_pattern(const SparseMatrix& K) {
-    const int nodes = step_.dofs().num_active_nodes();
-    const int* outer = K.outerIndexPtr();
-    const int* inner = K.innerIndexPtr();
-    std::vector<int> out_outer(static_cast<std::size_t>(nodes) * nc + 1, 0), out_inner;
-    out_inner.reserve(static_cast<std::size_t>(K.nonZeros()) * nc * nc / (dim * dim) + 1);
-    for (int e = 0; e < nodes; ++e) {
-      const int col = e * dim;
-      for (int c = 0; c < nc; ++c) {
-        for (int j = outer[col]; j < outer[col + 1]; j += dim) {
-          const int block = inner[j] / dim;
-          for (int r = 0; r < nc; ++r) out_inner.push_back(block * nc + r);
-        }
-        out_outer[e * nc + c + 1] = static_cast<int>(out_inner.size());
-      }
-    }
-    const int n = nodes * nc;
-    std::vector<double> values(out_inner.size(), 0.0);
-    tangent_ = Eigen::Map<const SparseMatrix>(n, n, static_cast<int>(out_inner.size()), out_outer.data(),
-                                              out_inner.data(), values.data());
-  }
-
-  /// Adds the solid's tangent K (dim per node) into the combined matrix's node blocks.
-  void copy_solid(const SparseMatrix& K) {
-    const int* outer = K.outerIndexPtr();
-    const double* kv = K.valuePtr();
-    const int* t_outer = tangent_.outerIndexPtr();
-    double* tv = tangent_.valuePtr();
-    for (int col = 0; col < K.outerSize(); ++col) {
-      const int e = col / dim, i = col % dim;
-      const int begin = t_outer[e * nc + i];
-      for (int j = 0; j < outer[col + 1] - outer[col]; ++j) tv[begin + (j / dim) * nc + j % dim] += kv[outer[col] + j];
-    }
-  }
-
   /// The pressure point p's volume carries: its own, or with F-bar its cell's mean (from
   /// point_values()).
   double pressure_on(int p) const { return cell_nodes_.empty() ? P_[p] : cell_P_[step_.fbar_cells()->cell(p)]; }
@@ -402,15 +367,7 @@ class ConsolidationStep final : public NonlinearProblem {
   }
 
   /// du (the solid's numbering) and dp (per active node) of the combined x.
-  void split(const Vector& x) {
-    const int nodes = dofs_.num_active_nodes();
-    du_.resize(static_cast<Eigen::Index>(nodes) * dim);
-    dp_.resize(nodes);
-    for (int e = 0; e < nodes; ++e) {
-      for (int i = 0; i < dim; ++i) du_[e * dim + i] = x[e * nc + i];
-      dp_[e] = x[e * nc + dim];
-    }
-  }
+  void split(const Vector& x) { split_node_blocks<dim>(x, du_, dp_); }
 
   /// At the points: P = p_n + sum N dp, the volume v at the step's end, the volume change,
   /// grad p_n+1 - rho_w g (Darcy's flux is -k / gamma_w times it), and each group's mean dP.

@@ -103,12 +103,17 @@ Eigen::VectorXd NonlocalPlasticStrain<dim>::over_ranks(const Eigen::VectorXd& mi
 }
 
 template <int dim>
-Eigen::VectorXd NonlocalPlasticStrain<dim>::smoothed(const std::vector<double>& source) const {
+Eigen::VectorXd NonlocalPlasticStrain<dim>::nodal(const std::vector<double>& source) const {
   const auto& pts = model_.points;
   const std::size_t stride = pts.state_stride;
   std::vector<double> kappa(pts.size(), 0.0);
   for (int p : regularised_points_) kappa[p] = source[p * stride + slots_[pts.material[p]].kappa];
-  const std::vector<double> kappa_bar = assembler_.interpolate(smoother_.smooth_point_field(kappa));
+  return smoother_.smooth_point_field(kappa);
+}
+
+template <int dim>
+Eigen::VectorXd NonlocalPlasticStrain<dim>::smoothed(const std::vector<double>& source) const {
+  const std::vector<double> kappa_bar = assembler_.interpolate(nodal(source));
   Eigen::VectorXd out(regularised_points_.size());
   for (std::size_t i = 0; i < regularised_points_.size(); ++i) out[i] = kappa_bar[regularised_points_[i]];
   return out;

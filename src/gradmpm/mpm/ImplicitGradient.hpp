@@ -57,6 +57,21 @@ class NonlocalPlasticStrain {
   /// Whether any material of `m` is regularised (declares eps_p_nonlocal).
   static bool applies(const Model<dim>& m);
 
+  // For the monolithic coupling (mpm/GradientCoupling.hpp), which solves the same equation
+  // beside the displacements:
+  /// The step's stencils of the regularised points, the weak nodes left out (the others' empty).
+  const PointStencils<dim>& stencils() const { return stencils_; }
+  /// The Helmholtz system's numbering (one unknown per node of stencils()).
+  const DofMap& dofs() const { return dofs_; }
+  /// kappa_bar at the nodes of dofs() from the kappa held in the state block `source`: G's nodal values.
+  Eigen::VectorXd nodal(const std::vector<double>& source) const;
+  /// The regularised points, ascending.
+  const std::vector<int>& regularised_points() const { return regularised_points_; }
+  /// Offsets of kappa (eps_p) and kappa_bar (eps_p_nonlocal) in the state of a point of
+  /// material `material` (-1: not regularised).
+  int kappa_slot(int material) const { return slots_[material].kappa; }
+  int nonlocal_slot(int material) const { return slots_[material].nonlocal; }
+
  private:
   struct Slots {
     int kappa = -1, nonlocal = -1;  ///< offsets in a point's state; -1: not regularised

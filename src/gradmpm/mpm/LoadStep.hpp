@@ -170,8 +170,19 @@ class LoadStep final : public ParametrisedProblem {
   /// configuration its stress lives in: grad_x N = dN dF^-1 (finite strain), dN at x_n
   /// (small strain).
   const std::array<Vec<dim>, Stencil<dim>::capacity>& gradients(int p) const { return grads_[p]; }
+  /// Point p's weight w_p in f_int = sum_p w_p stress_p grad N at the last internal_force() iterate.
+  double weight(int p) const { return weights_[p]; }
   /// F-bar's cells (null without F-bar).
   const FBarCells<dim>* fbar_cells() const { return fbar_.get(); }
+  /// F-bar: each point's dJ and its cell's dJbar at the last internal_force() iterate.
+  const std::vector<double>& fbar_dJ() const { return fbar_dJ_; }
+  const std::vector<double>& fbar_dJbar() const { return fbar_dJbar_; }
+  /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in
+  /// the plane (dJbar and dJ of the last internal_force() iterate).
+  Mat3 material_increment(int p, Mat3 dF) const {
+    if (fbar_) dF.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
+    return dF;
+  }
   /// The state block of the last internal_force() iterate.
   const std::vector<double>& trial_state() const { return trial_state_; }
   /// The round-off of the internal force: 100 eps_mach E h^(dim-1) sqrt(dofs), the norm of
@@ -578,12 +589,6 @@ class LoadStep final : public ParametrisedProblem {
   /// Point p's number in the whole body (a distributed run's points are a subset).
   int id(int p) const { return split_ ? ids_[p] : p; }
   static constexpr int kNone = std::numeric_limits<int>::max();  ///< no failed point
-
-  /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in the plane.
-  Mat3 material_increment(int p, Mat3 dF) const {
-    if (fbar_) dF.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
-    return dF;
-  }
 
   const Model<dim>& model_;
   bool split_;            ///< distributed: model_'s points are this rank's

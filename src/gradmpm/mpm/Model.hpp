@@ -46,6 +46,14 @@ struct NamedNodeSet {
   std::vector<int> nodes;
 };
 
+/// A named set of material points (`[[point_sets]]`): those in a box at the start, by
+/// index. The reports that use it (the degree of consolidation, app/MpmRun.cpp) run on one
+/// rank, where a point keeps its index.
+struct PointSet {
+  std::string name;
+  std::vector<int> points;
+};
+
 /// A rigid, frictionless, axis-aligned box pushing the material points by penalty contact
 /// (a footing, a platen, an indenter; mpm/RigidContact.hpp).
 template <int dim>
@@ -64,6 +72,9 @@ struct Regularisation {
   /// Where kappa_bar starts each load step's staggered iteration: kept at the points from
   /// the end of the last step (true), or recomputed from kappa_n on the new step's grid.
   bool start_from_points = true;
+  /// Displacements and kappa_bar by one Newton iteration (mpm/GradientCoupling.hpp), or
+  /// staggered (mpm/ImplicitGradient.hpp).
+  bool monolithic = false;
   int max_iterations = 100;  ///< staggered iterations per load step before it is cut
   double tolerance = 1e-6;   ///< on max |d kappa_bar| / max kappa_bar of a staggered iteration
 };
@@ -128,6 +139,7 @@ struct Model {
   /// zero on their nodes, fixed-support nodes on them included.
   std::vector<std::pair<int, double>> roller_planes;
   std::vector<NamedNodeSet> node_sets;
+  std::vector<PointSet> point_sets;
   std::vector<NodeTie> ties;  ///< [[ties]]: node pairs held together by a penalty
   std::vector<RigidBox<dim>> rigid_boxes;
   Regularisation regularisation;

@@ -12,6 +12,7 @@
 #include "gradmpm/core/Timer.hpp"
 #include "gradmpm/mpm/Consolidation.hpp"
 #include "gradmpm/mpm/Dynamics.hpp"
+#include "gradmpm/mpm/GradientCoupling.hpp"
 #include "gradmpm/mpm/ImplicitGradient.hpp"
 #include "gradmpm/mpm/LoadStep.hpp"
 #include "gradmpm/mpm/RankPoints.hpp"
@@ -27,6 +28,7 @@ constexpr double kEndTolerance = 1e-12;
 
 using detail::ConsolidationStep;
 using detail::DynamicStep;
+using detail::GradientCouplingStep;
 using detail::LoadStep;
 
 /// The load step's equilibrium: one solve, or with regularised plasticity the staggered
@@ -213,9 +215,19 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
   if (model.pore.active())
     pore = std::make_unique<ConsolidationStep<dim>>(*step, model, model.time.dynamic() ? dtau : 0.0, lambda_end);
   info.phases.pattern = seconds_since(t0);
-  NonlinearProblem& problem = dynamic ? static_cast<NonlinearProblem&>(*dynamic)
-                              : pore  ? static_cast<NonlinearProblem&>(*pore)
-                                      : *step;
+  // Regularised plasticity solved monolithically: kappa_bar beside du (mpm/GradientCoupling.hpp).
+  std::unique_ptr<NonlocalPlasticStrain<dim>> nonlocal;
+  std::unique_ptr<GradientCouplingStep<dim>> coupled;
+  if (model.regularisation.monolithic && NonlocalPlasticStrain<dim>::applies(model)) {
+    const auto t1 = Clock::now();
+    nonlocal = std::make_unique<NonlocalPlasticStrain<dim>>(model, step->stencils(), settings.linear_solver);
+    coupled = std::make_unique<GradientCouplingStep<dim>>(*step, model, *nonlocal);
+    info.phases.nonlocal += seconds_since(t1);
+  }
+  NonlinearProblem& problem = dynamic   ? static_cast<NonlinearProblem&>(*dynamic)
+                              : pore    ? static_cast<NonlinearProblem&>(*pore)
+                              : coupled ? static_cast<NonlinearProblem&>(*coupled)
+                                        : *step;
   info.dofs = problem.dofs().num_global_dofs();
   info.nonzeros = problem.pattern().nonZeros();
   Vector du;
@@ -224,6 +236,9 @@ Vector attempt_step(Model<dim>& model, const NewtonSettings& settings, const Ste
     if (settings.arc_length.method != ArcLengthSettings::Method::Cylindrical)
       arc->linear = relative_displacement(settings.arc_length, step->dofs());
     du = solve_arc_step(*step, model, settings, info, newton, *arc);
+  } else if (coupled) {
+    newton.start_step();
+    du = coupled->commit(newton.solve(problem, settings, info, nullptr));  // (the displacement part)
   } else {
     du = solve_step(*step, problem, model, settings, info, newton);
   }
