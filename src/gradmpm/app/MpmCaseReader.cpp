@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
+#include <memory>
 #include <limits>
 
 #include "gradmpm/app/CaseKeys.hpp"
@@ -14,6 +16,8 @@
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/Ranks.hpp"
+#include "gradmpm/geometry/GmshMesh.hpp"
+#include "gradmpm/geometry/MeshBody.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
 #include "gradmpm/mpm/InitialStress.hpp"
 #include "gradmpm/mpm/RankPoints.hpp"
@@ -232,10 +236,37 @@ struct BodyShape {
   std::string key;  ///< the key its errors name: "bodies[k].polygon" or "bodies[k].max"
 };
 
+/// A body from a mesh file (its path relative to the case file's folder): the elements of
+/// its physical group `physical` (all of them where empty).
+template <int dim>
+std::shared_ptr<const MeshBody<dim>> read_mesh_body(const CaseFile& cf, const std::string& key,
+                                                    const std::string& physical) {
+  std::filesystem::path file = cf.string(key);
+  if (file.is_relative()) file = std::filesystem::path(cf.name()).parent_path() / file;
+  try {
+    return std::make_shared<const MeshBody<dim>>(read_gmsh(file), physical);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}: {}", cf.name(), key, e.what()));
+  }
+}
+
 template <int dim>
 BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const GridRead<dim>& g) {
   BodyShape<dim> s;
-  if (cf.has(k + ".polygon")) {
+  cf.require(!cf.has(k + ".physical") || cf.has(k + ".mesh"), k + ".physical",
+             "no physical group without a mesh (`mesh = \"FILE.msh\"`)");
+  if (cf.has(k + ".mesh")) {
+    s.key = k + ".mesh";
+    cf.require(!cf.has(k + ".min") && !cf.has(k + ".max") && !cf.has(k + ".polygon"), s.key,
+               "either a mesh, a polygon or min/max, not two of them");
+    if constexpr (dim == 1) {
+      cf.require(false, s.key, "no mesh in a 1D case (a mesh body is 2D or 3D)");
+    } else {
+      const auto body = read_mesh_body<dim>(cf, s.key, cf.has(k + ".physical") ? cf.string(k + ".physical") : "");
+      s.box = {body->lo(), body->hi()};
+      s.inside = [body](const Vec<dim>& x) { return body->contains(x); };
+    }
+  } else if (cf.has(k + ".polygon")) {
     s.key = k + ".polygon";
     cf.require(dim == 2, s.key, "no polygon (polygons are for 2D cases; use min and max)");
     cf.require(!cf.has(k + ".min") && !cf.has(k + ".max"), s.key, "either a polygon or min/max, not both");
@@ -336,7 +367,8 @@ BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names
     cf.require(r.planned_points <= kLargestIndex, k + ".points_per_cell",
                fmt::format("at most 2^31 points in all; these bodies have {:.4g}", r.planned_points));
     // Overlapping bodies would put two points' mass and stiffness in one place: refused.
-    const std::string overlap_key = cf.has(k + ".polygon") ? shape.key : k + ".min";
+    const bool box = !cf.has(k + ".polygon") && !cf.has(k + ".mesh");
+    const std::string overlap_key = box ? k + ".min" : shape.key;
     auto not_overlapping = [&](const Vec<dim>& x) {
       for (std::size_t e = 0; e < earlier_bodies.size(); ++e)
         cf.require(!earlier_bodies[e](x), overlap_key,
@@ -365,7 +397,7 @@ BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names
       }
     }
     r.total_points += added;
-    if (cf.has(k + ".polygon"))
+    if (!box)
       earlier_bodies.push_back(shape.inside);
     else
       earlier_bodies.push_back([box = shape.box, h = g.h](const Vec<dim>& x) {

@@ -1,0 +1,171 @@
+// Requirements on bodies from meshes (geometry/GmshMesh.hpp, geometry/MeshBody.hpp,
+// `[[bodies]] mesh`, docs/geometry.md):
+//  G1 a gmsh MSH 4.1 file is read: the elements of a physical group make the body, their
+//     areas and volumes add up to the group's (to 1e-15), and "inside?" holds in its
+//     elements and not beside them; the lower-dimensional elements are left out;
+//  G2 a mesh that would give a wrong body is refused with one line naming the file and
+//     what is wrong: another MSH version, a binary file, an unknown physical name, a
+//     second-order element, an inverted or non-convex element, a node an element names but
+//     the file lacks;
+//  G3 a mesh body fills the grid as the box or polygon it meshes does: the same points
+//     (positions, volumes) from a mesh of two squares as from the two boxes, material by
+//     physical group.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/core/Errors.hpp"
+#include "gradmpm/geometry/GmshMesh.hpp"
+#include "gradmpm/geometry/MeshBody.hpp"
+
+using namespace gradmpm;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kMeshes = fs::path(GRADMPM_SOURCE_DIR) / "tests" / "meshes";
+
+std::string slurp(const fs::path& f) {
+  std::ifstream in(f);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// `text` written to a file of its own; the message a body of dimension `dim` from it
+/// (physical group `physical`) is refused with ("" if it is not).
+template <int dim>
+std::string refusal(const std::string& text, const std::string& physical = "") {
+  const fs::path file = fs::temp_directory_path() / fmt::format("gradmpm_geometry_{}.msh", ::getpid());
+  std::ofstream(file) << text;
+  try {
+    MeshBody<dim> body(read_gmsh(file), physical);
+  } catch (const InputError& e) {
+    fs::remove(file);
+    return e.what();
+  }
+  fs::remove(file);
+  return "";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST(Geometry, G1_PhysicalGroupsMakeTheBodies) {
+  const GmshMesh mesh = read_gmsh(kMeshes / "two_squares.msh");
+  const MeshBody<2> soil(mesh, "soil"), rock(mesh, "rock"), all(mesh, "");
+  std::cout << "soil: " << soil.elements() << " elements, area " << soil.volume() << "; rock: " << rock.elements()
+            << " elements, area " << rock.volume() << "; all: " << all.volume() << "\n";
+  EXPECT_EQ(soil.elements(), 2);
+  EXPECT_EQ(rock.elements(), 1);
+  EXPECT_NEAR(soil.volume(), 1.0, 1e-15);
+  EXPECT_NEAR(rock.volume(), 1.0, 1e-15);
+  EXPECT_NEAR(all.volume(), 2.0, 1e-15);
+  EXPECT_TRUE(soil.contains(Vec<2>(0.5, 0.5)));
+  EXPECT_TRUE(soil.contains(Vec<2>(0.0, 1.0)));  // (a corner)
+  EXPECT_FALSE(soil.contains(Vec<2>(1.5, 0.5)));
+  EXPECT_TRUE(rock.contains(Vec<2>(1.5, 0.5)));
+  EXPECT_FALSE(rock.contains(Vec<2>(2.0001, 0.5)));
+  EXPECT_TRUE(all.contains(Vec<2>(1.0, 0.25)));
+
+  const GmshMesh solid = read_gmsh(kMeshes / "cube_and_wedge.msh");
+  const MeshBody<3> block(solid, "block"), wedge(solid, "wedge");
+  std::cout << "block: volume " << block.volume() << " (" << block.simplices() << " tetrahedra); wedge: "
+            << wedge.volume() << "\n";
+  EXPECT_NEAR(block.volume(), 1.0, 1e-15);
+  EXPECT_NEAR(wedge.volume(), 1.0 / 6.0, 1e-15);
+  EXPECT_TRUE(block.contains(Vec<3>(0.2, 0.7, 0.9)));
+  EXPECT_FALSE(block.contains(Vec<3>(0.2, 1.1, 0.9)));
+  EXPECT_TRUE(wedge.contains(Vec<3>(1.2, 0.2, 0.2)));
+  EXPECT_FALSE(wedge.contains(Vec<3>(1.5, 0.5, 0.5)));  // (beyond its slanted face)
+}
+
+TEST(Geometry, G2_BadMeshesAreRefusedNamingFileAndFault) {
+  const std::string good = slurp(kMeshes / "two_squares.msh");
+  struct Case {
+    std::string what, text, physical, message;
+  };
+  const std::vector<Case> cases = {
+      {"MSH 2.2", replaced(good, "4.1 0 8", "2.2 0 8"), "", "MSH version 2.2 (this reader takes 4.1"},
+      {"binary", replaced(good, "4.1 0 8", "4.1 1 8"), "", "a binary MSH file"},
+      {"unknown physical", good, "clay", "no 2D physical group \"clay\" (it has \"soil\", \"rock\")"},
+      {"second order", replaced(good, "2 2 3 1\n3 2 5 6 3", "2 2 9 1\n3 2 5 6 3 1 2"), "",
+       "element 3 is a second-order element (gmsh type 9); a 2D body takes linear triangles and quadrangles"},
+      {"inverted triangle", replaced(good, "2 1 3 4", "2 1 4 3"), "",
+       "element 2 is inverted or not convex (it winds the other way round"},
+      {"non-convex quadrangle", replaced(good, "2 0 0\n2 1 0\n$EndNodes", "2 0 0\n1.2 0.2 0\n$EndNodes"), "rock",
+       "element 3 is not convex (its corner 3 turns the other way)"},
+      {"missing node", replaced(good, "1 1 2 3", "1 1 2 7"), "", "element 1 names node 7, which $Nodes does not hold"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = refusal<2>(c.text, c.physical);
+    std::cout << c.what << ": " << message << "\n";
+    EXPECT_NE(message.find(c.message), std::string::npos) << c.what << ": " << message;
+    EXPECT_NE(message.find("gradmpm_geometry_"), std::string::npos) << "the file is named";
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line";
+  }
+}
+
+TEST(Geometry, G3_AMeshBodyFillsTheGridAsTheShapeItMeshes) {
+  const auto read = [](const std::string& bodies) {
+    const std::string text = R"(
+[grid]
+origin = [-0.5, -0.5]
+cell_size = 0.25
+cells = [12, 8]
+[materials.soil]
+model = "linear-elastic"
+young = 100.0
+[materials.rock]
+model = "linear-elastic"
+young = 1000.0
+)" + bodies + R"(
+[load_steps]
+count = 1
+)";
+    CaseFile cf = CaseFile::parse(text, (kMeshes / "case.toml").string());
+    return read_mpm_case<2>(cf).model;
+  };
+  const Model<2> boxes = read(R"(
+[[bodies]]
+material = "soil"
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+[[bodies]]
+material = "rock"
+min = [1.0, 0.0]
+max = [2.0, 1.0]
+points_per_cell = 3
+)");
+  const Model<2> meshes = read(R"(
+[[bodies]]
+material = "soil"
+mesh = "two_squares.msh"
+physical = "soil"
+[[bodies]]
+material = "rock"
+mesh = "two_squares.msh"
+physical = "rock"
+points_per_cell = 3
+)");
+  std::cout << "boxes: " << boxes.points.size() << " points; meshes: " << meshes.points.size() << " points\n";
+  ASSERT_EQ(boxes.points.size(), meshes.points.size());
+  double volume = 0.0;
+  for (int p = 0; p < boxes.points.size(); ++p) {
+    EXPECT_EQ(boxes.points.position[p], meshes.points.position[p]) << p;
+    EXPECT_EQ(boxes.points.volume[p], meshes.points.volume[p]) << p;
+    EXPECT_EQ(boxes.points.material[p], meshes.points.material[p]) << p;
+    volume += meshes.points.volume[p];
+  }
+  EXPECT_NEAR(volume, 2.0, 1e-12);
+}
