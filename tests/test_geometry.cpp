@@ -9,7 +9,12 @@
 //     the file lacks;
 //  G3 a mesh body fills the grid as the box or polygon it meshes does: the same points
 //     (positions, volumes) from a mesh of two squares as from the two boxes, material by
-//     physical group.
+//     physical group;
+//  G4 with placement = "elements" the points are the elements' quadrature points: 3 per
+//     triangle, 4 per quadrangle and tetrahedron, 8 per hexahedron, inside their
+//     elements, their volumes adding up to the mesh's to 1e-12 (also on the slope
+//     example's gmsh mesh), their masses density times volume; with it points_per_cell
+//     and a distributed run are refused.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -19,6 +24,7 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <tuple>
 
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/core/Errors.hpp"
@@ -168,4 +174,51 @@ points_per_cell = 3
     volume += meshes.points.volume[p];
   }
   EXPECT_NEAR(volume, 2.0, 1e-12);
+}
+
+TEST(Geometry, G4_ElementPlacementPutsPointsAtQuadraturePoints) {
+  for (const auto& [file, physical, dim_points, volume] :
+       std::vector<std::tuple<std::string, std::string, int, double>>{{"two_squares.msh", "soil", 6, 1.0},
+                                                                      {"two_squares.msh", "rock", 4, 1.0}}) {
+    const MeshBody<2> body(read_gmsh(kMeshes / file), physical, true);
+    double sum = 0.0;
+    for (const auto& q : body.quadrature()) {
+      sum += q.weight;
+      EXPECT_TRUE(body.contains(q.x)) << physical;
+    }
+    EXPECT_EQ(static_cast<int>(body.quadrature().size()), dim_points) << physical;
+    EXPECT_NEAR(sum, volume, 1e-15) << physical;
+  }
+  const GmshMesh solid = read_gmsh(kMeshes / "cube_and_wedge.msh");
+  const MeshBody<3> block(solid, "block", true), wedge(solid, "wedge", true);
+  EXPECT_EQ(block.quadrature().size(), 8u);
+  EXPECT_EQ(wedge.quadrature().size(), 4u);
+  double vb = 0.0, vw = 0.0;
+  for (const auto& q : block.quadrature()) vb += q.weight;
+  for (const auto& q : wedge.quadrature()) {
+    vw += q.weight;
+    EXPECT_TRUE(wedge.contains(q.x));
+  }
+  EXPECT_NEAR(vb, 1.0, 1e-15);
+  EXPECT_NEAR(vw, 1.0 / 6.0, 1e-15);
+
+  // The slope example's gmsh mesh, its two groups as two bodies at their quadrature points.
+  const fs::path example = fs::path(GRADMPM_SOURCE_DIR) / "examples" / "slope_gmsh_2d.toml";
+  CaseFile cf = CaseFile::load(example, {"bodies[0].placement=elements", "bodies[1].placement=elements"});
+  const Model<2> m = read_mpm_case<2>(cf).model;
+  double v = 0.0, mass = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    v += m.points.volume[p];
+    mass += m.points.mass[p];
+  }
+  std::cout << "slope: " << m.points.size() << " points at the elements' quadrature points, volume " << v
+            << " (the mesh's: 900), mass " << mass << "\n";
+  EXPECT_NEAR(v, 900.0, 1e-12 * 900.0);
+  EXPECT_NEAR(mass, 2.0 * v, 1e-12 * 900.0);
+  EXPECT_THROW(
+      {
+        CaseFile bad = CaseFile::load(example, {"bodies[0].placement=elements", "bodies[0].points_per_cell=2"});
+        read_mpm_case<2>(bad);
+      },
+      InputError);
 }

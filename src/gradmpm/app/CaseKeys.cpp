@@ -295,10 +295,13 @@ const std::vector<SectionSpec>& mpm_sections() {
           {.name = "polygon", .type = K::Other, .type_text = "[[x, y], ...]", .default_text = "none",
            .doc = "2D only: a polygon (>= 3 vertices) instead of a box"},
           {.name = "mesh", .type = K::String, .default_text = "none",
-           .doc = "a gmsh mesh (MSH 4.1 ASCII; its path relative to the case file) instead of a box: the points fill the "
-                  "grid's sub-cells whose centres lie in its linear elements of the case's dimension (docs/geometry.md)"},
+           .doc = "a gmsh mesh (MSH 4.1 ASCII; its path relative to the case file) instead of a box: its linear "
+                  "elements of the case's dimension make the body (docs/geometry.md)"},
           {.name = "physical", .type = K::String, .default_text = "every element",
            .doc = "with `mesh`: the name of the physical group whose elements make the body"},
+          {.name = "placement", .type = K::String, .default_value = std::string("grid"), .choices = {"grid", "elements"},
+           .doc = "with `mesh`: `grid`, points at the sub-cell centres inside the elements (`points_per_cell`); "
+                  "`elements`, points at the elements' quadrature points, their volumes adding up to the mesh's (one rank)"},
           {.name = "points_per_cell", .type = K::Integer, .default_value = 2LL, .min = 1.0, .max = 8.0,
            .allowed = "an integer from 1 to 8 (points per cell and direction)",
            .doc = "points per cell and direction, at sub-cell centres (volume = sub-cell volume), kept where they fall "

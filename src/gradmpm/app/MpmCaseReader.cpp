@@ -234,17 +234,19 @@ struct BodyShape {
   Box<dim> box;
   std::function<bool(const Vec<dim>&)> inside;
   std::string key;  ///< the key its errors name: "bodies[k].polygon" or "bodies[k].max"
+  /// placement = "elements": the mesh whose quadrature points are the body's points
+  std::shared_ptr<const MeshBody<dim>> elements;
 };
 
 /// A body from a mesh file (its path relative to the case file's folder): the elements of
 /// its physical group `physical` (all of them where empty).
 template <int dim>
 std::shared_ptr<const MeshBody<dim>> read_mesh_body(const CaseFile& cf, const std::string& key,
-                                                    const std::string& physical) {
+                                                    const std::string& physical, bool quadrature) {
   std::filesystem::path file = cf.string(key);
   if (file.is_relative()) file = std::filesystem::path(cf.name()).parent_path() / file;
   try {
-    return std::make_shared<const MeshBody<dim>>(read_gmsh(file), physical);
+    return std::make_shared<const MeshBody<dim>>(read_gmsh(file), physical, quadrature);
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}: {}", cf.name(), key, e.what()));
   }
@@ -253,8 +255,14 @@ std::shared_ptr<const MeshBody<dim>> read_mesh_body(const CaseFile& cf, const st
 template <int dim>
 BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const GridRead<dim>& g) {
   BodyShape<dim> s;
-  cf.require(!cf.has(k + ".physical") || cf.has(k + ".mesh"), k + ".physical",
-             "no physical group without a mesh (`mesh = \"FILE.msh\"`)");
+  for (const char* key : {".physical", ".placement"})
+    cf.require(!cf.has(k + key) || cf.has(k + ".mesh"), k + key, "no such key without a mesh (`mesh = \"FILE.msh\"`)");
+  const bool elements = cf.has(k + ".mesh") && read_string(cf, k, mpm_section("bodies").key("placement")) == "elements";
+  if (elements) {
+    cf.require(!cf.has(k + ".points_per_cell"), k + ".points_per_cell",
+               "no such key with placement = \"elements\" (the points are the elements' quadrature points)");
+    cf.require(!ranks::distributed(), k + ".placement", "\"grid\" in a run on more than one rank");
+  }
   if (cf.has(k + ".mesh")) {
     s.key = k + ".mesh";
     cf.require(!cf.has(k + ".min") && !cf.has(k + ".max") && !cf.has(k + ".polygon"), s.key,
@@ -262,9 +270,11 @@ BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const G
     if constexpr (dim == 1) {
       cf.require(false, s.key, "no mesh in a 1D case (a mesh body is 2D or 3D)");
     } else {
-      const auto body = read_mesh_body<dim>(cf, s.key, cf.has(k + ".physical") ? cf.string(k + ".physical") : "");
+      const auto body =
+          read_mesh_body<dim>(cf, s.key, cf.has(k + ".physical") ? cf.string(k + ".physical") : "", elements);
       s.box = {body->lo(), body->hi()};
       s.inside = [body](const Vec<dim>& x) { return body->contains(x); };
+      if (elements) s.elements = body;
     }
   } else if (cf.has(k + ".polygon")) {
     s.key = k + ".polygon";
@@ -361,7 +371,10 @@ BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names
     double body_cells = 1.0;
     for (int d = 0; d < dim; ++d) body_cells *= std::max(0, last[d] - first[d]);
     r.planned_cells += body_cells;
-    r.planned_points += body_cells * std::pow(static_cast<double>(ppc), dim);
+    double body_points = body_cells * std::pow(static_cast<double>(ppc), dim);
+    if constexpr (dim >= 2)
+      if (shape.elements) body_points = static_cast<double>(shape.elements->quadrature().size());
+    r.planned_points += body_points;
     require_memory(cf, shape.key, g.memory.estimate(r.planned_points, r.planned_cells),
                    fmt::format("{:.3g} points, {:.3g} grid nodes{}", r.planned_points, g.nodes, g.memory.machine_ranks));
     cf.require(r.planned_points <= kLargestIndex, k + ".points_per_cell",
@@ -380,7 +393,16 @@ BodiesRead read_bodies(const CaseFile& cf, const std::vector<std::string>& names
     cf.require(!cf.has(k + ".velocity") || cf.has_section("time"), k + ".velocity",
                "no initial velocity in a quasi-static case (a dynamic one has [time])");
     int added = 0;
-    if (rank_points_only) {
+    if (shape.elements) {  // the mesh's quadrature points (one rank: refused in a distributed run)
+      if constexpr (dim >= 2)
+        for (const auto& q : shape.elements->quadrature()) {
+          not_overlapping(q.x);
+          const double side = std::pow(q.weight, 1.0 / dim);  // (a GIMP domain of the point's volume)
+          m.points.add(q.x, q.weight, mat_id, Vec<dim>::Constant(0.5 * side), m.materials[mat_id]->density() * q.weight);
+          m.points.velocity[m.points.size() - 1] = velocity;
+          ++added;
+        }
+    } else if (rank_points_only) {
       for_each_regular_point<dim>(m.grid, first, last, ppc, shape.inside, [&](const Vec<dim>& x) {
         not_overlapping(x);
         ++added;

@@ -44,7 +44,8 @@ bool linear_of_dim(int type, int dim) { return dim == 2 ? (type == 2 || type == 
 }  // namespace
 
 template <int dim>
-MeshBody<dim>::MeshBody(const GmshMesh& mesh, const std::string& physical) {
+MeshBody<dim>::MeshBody(const GmshMesh& mesh, const std::string& physical, bool quadrature)
+    : keep_quadrature_(quadrature) {
   static_assert(dim == 2 || dim == 3, "mesh bodies are 2D or 3D");
   int tag = -1;  // the physical group's tag
   if (!physical.empty()) {
@@ -109,7 +110,48 @@ void MeshBody<dim>::add_element(const GmshMesh& mesh, const GmshMesh::Block& blo
     for (int i = 0; i <= dim; ++i) s[i] = x[corners[i]];
     add_simplex(s, tag, mesh.file);
   }
+  if (keep_quadrature_) add_quadrature(block.type, x);
   ++elements_;
+}
+
+template <int dim>
+void MeshBody<dim>::add_quadrature(int type, const std::array<Vec<dim>, 8>& x) {
+  if (type == 2 || type == 4) {  // the symmetric interior rule of a simplex: dim + 1 points of equal weight
+    const double a = dim == 2 ? 2.0 / 3.0 : 0.5854101966249685, b = dim == 2 ? 1.0 / 6.0 : 0.1381966011250105;
+    Simplex s;
+    for (int i = 0; i <= dim; ++i) s[i] = x[i];
+    const double w = std::abs(signed_measure<dim>(s)) / (dim + 1);
+    for (int i = 0; i <= dim; ++i) {
+      Vec<dim> p = Vec<dim>::Zero();
+      for (int j = 0; j <= dim; ++j) p += (i == j ? a : b) * x[j];
+      quadrature_.push_back({p, w});
+    }
+    return;
+  }
+  // Gauss, 2 points per direction, on the (bi/tri)linear map of the reference cube [-1, 1]^dim
+  // (gmsh's corner order: counter-clockwise in the plane, the bottom face before the top).
+  static const int sign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                 {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  const int corners = 1 << dim;
+  const double g = 1.0 / std::sqrt(3.0);
+  for (int q = 0; q < corners; ++q) {
+    double xi[3];
+    for (int d = 0; d < dim; ++d) xi[d] = sign[q][d] * g;
+    Vec<dim> p = Vec<dim>::Zero();
+    Eigen::Matrix<double, dim, dim> J = Eigen::Matrix<double, dim, dim>::Zero();  // dx / dxi
+    for (int a = 0; a < corners; ++a) {
+      double N = 1.0 / corners;
+      for (int d = 0; d < dim; ++d) N *= 1.0 + sign[a][d] * xi[d];
+      p += N * x[a];
+      for (int k = 0; k < dim; ++k) {
+        double dN = sign[a][k] / static_cast<double>(corners);
+        for (int d = 0; d < dim; ++d)
+          if (d != k) dN *= 1.0 + sign[a][d] * xi[d];
+        J.col(k) += dN * x[a];
+      }
+    }
+    quadrature_.push_back({p, std::abs(J.determinant())});
+  }
 }
 
 template <int dim>

@@ -19,8 +19,20 @@ template <int dim>
 class MeshBody {
  public:
   /// `physical`: the name of a physical group of dimension dim; empty: every element of
-  /// dimension dim. Throws InputError naming the file and what is wrong.
-  MeshBody(const GmshMesh& mesh, const std::string& physical);
+  /// dimension dim. `quadrature`: also keep the elements' quadrature points
+  /// (quadrature()). Throws InputError naming the file and what is wrong.
+  MeshBody(const GmshMesh& mesh, const std::string& physical, bool quadrature = false);
+
+  /// A quadrature point of an element: where, and the volume it stands for.
+  struct QuadraturePoint {
+    Vec<dim> x;
+    double weight;
+  };
+  /// The elements' quadrature points, whose weights add up to their volumes: 3 per
+  /// triangle and 4 per tetrahedron (the symmetric interior rules, exact for linear
+  /// fields), 2^dim per quadrangle and hexahedron (Gauss on the bilinear or trilinear map,
+  /// whose Jacobian it integrates exactly). Empty unless asked for.
+  const std::vector<QuadraturePoint>& quadrature() const { return quadrature_; }
 
   /// Whether x lies in an element (boundaries included, to 1e-12 of the element's size).
   bool contains(const Vec<dim>& x) const;
@@ -38,6 +50,10 @@ class MeshBody {
   void build_buckets();
   bool in_simplex(const Simplex& s, const Vec<dim>& x) const;
 
+  void add_quadrature(int type, const std::array<Vec<dim>, 8>& x);
+
+  bool keep_quadrature_ = false;
+  std::vector<QuadraturePoint> quadrature_;
   std::vector<Simplex> simplices_;
   std::vector<double> sizes_;  ///< each simplex's volume
   int elements_ = 0;
