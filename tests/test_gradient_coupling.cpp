@@ -86,11 +86,18 @@ struct CoupledCheck {
   int dofs = 0;
 };
 
-/// The coupled step of the block's next load step at a random iterate about the start.
-CoupledCheck coupled_tangent_check(const std::string& law, const std::vector<std::string>& overrides) {
+const std::string kVonMises = "model = \"von-mises\"\nyoung = 1000.0\npoisson = 0.3\nyield_stress = 2.0\nhardening = -30.0";
+
+/// The block with both materials' keys `law` (their differences in `overrides`).
+CaseFile block_case(const std::string& law, const std::vector<std::string>& overrides) {
   std::string text = kBlock;
   for (std::size_t at; (at = text.find("LAW")) != std::string::npos;) text.replace(at, 3, law);
-  CaseFile cf = CaseFile::parse(text, "block.toml", overrides);
+  return CaseFile::parse(text, "block.toml", overrides);
+}
+
+/// The coupled step of the block's next load step at a random iterate about the start.
+CoupledCheck coupled_tangent_check(const std::string& law, const std::vector<std::string>& overrides) {
+  CaseFile cf = block_case(law, overrides);
   MpmCase<2> c = read_mpm_case<2>(cf);
   run_quasi_static<2>(c.model, c.newton);  // softened, moved (GIMP stencils of 3x3 nodes)
   detail::LoadStep<2> step(c.model, 1.0, 0.3);
@@ -157,7 +164,6 @@ CoupledCheck coupled_tangent_check(const std::string& law, const std::vector<std
 }  // namespace
 
 TEST(GradientCoupling, TangentIsTheDerivativeOfTheCoupledResidual) {
-  const std::string von_mises = "model = \"von-mises\"\nyoung = 1000.0\npoisson = 0.3\nyield_stress = 2.0\nhardening = -30.0";
   const std::string drucker_prager =
       "model = \"drucker-prager\"\nyoung = 1000.0\npoisson = 0.3\ncohesion = 3.0\nfriction_angle = 20.0\n"
       "dilation_angle = 5.0\nhardening = -5.0\nresidual_cohesion = 0.5";
@@ -170,8 +176,8 @@ TEST(GradientCoupling, TangentIsTheDerivativeOfTheCoupledResidual) {
     std::vector<std::string> overrides;
   };
   const std::vector<Case> cases = {
-      {"von Mises", von_mises, {"materials.weak.yield_stress=1.8"}},
-      {"von Mises, F-bar", von_mises, {"materials.weak.yield_stress=1.8", "mpm.fbar=true"}},
+      {"von Mises", kVonMises, {"materials.weak.yield_stress=1.8"}},
+      {"von Mises, F-bar", kVonMises, {"materials.weak.yield_stress=1.8", "mpm.fbar=true"}},
       {"Drucker-Prager, F-bar", drucker_prager, {"materials.weak.cohesion=2.7", "mpm.fbar=true"}},
       {"Mohr-Coulomb", mohr_coulomb, {"materials.weak.cohesion=2.7"}},
   };
@@ -185,10 +191,7 @@ TEST(GradientCoupling, TangentIsTheDerivativeOfTheCoupledResidual) {
 }
 
 TEST(GradientCoupling, ConvergedStepSatisfiesTheHelmholtzEquation) {
-  std::string text = kBlock;
-  const std::string law = "model = \"von-mises\"\nyoung = 1000.0\npoisson = 0.3\nyield_stress = 2.0\nhardening = -30.0";
-  for (std::size_t at; (at = text.find("LAW")) != std::string::npos;) text.replace(at, 3, law);
-  CaseFile cf = CaseFile::parse(text, "block.toml", {"materials.weak.yield_stress=1.8", "load_steps.count=4"});
+  CaseFile cf = block_case(kVonMises, {"materials.weak.yield_stress=1.8", "load_steps.count=4"});
   MpmCase<2> c = read_mpm_case<2>(cf);
   run_quasi_static<2>(c.model, c.newton);
   // One more load step by the monolithic Newton, then kappa_bar against the smoothing of

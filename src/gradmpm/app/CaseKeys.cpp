@@ -196,6 +196,14 @@ SectionSpec time_section() {
 }
 
 /// [[ties]] (mpm_sections).
+SectionSpec point_sets_section() {
+  const std::string dimvec = "[dim numbers]";
+  return SectionSpec{"point_sets", SectionKind::Array, false, "named sets of material points, those in a box at the start: a run with pore pressure reports each set's mean excess pore pressure and degree of consolidation in consolidation.csv (docs/pore-pressure.md)",
+         {{.name = "name", .type = K::String, .doc = "the set's name in consolidation.csv"},
+          {.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of the points (with `max`), at the start"},
+          {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"}}};
+}
+
 SectionSpec ties_section() {
   const std::string dimvec = "[dim numbers]";
   return SectionSpec{"ties", SectionKind::Array, false, "grid nodes whose displacement components move together: a rigid frictionless plate under a load (penalty; one rank)",
@@ -346,10 +354,7 @@ const std::vector<SectionSpec>& mpm_sections() {
          {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
           {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
           {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}},
-        {"point_sets", SectionKind::Array, false, "named sets of material points, those in a box at the start: a run with pore pressure reports each set's mean excess pore pressure and degree of consolidation in consolidation.csv (docs/pore-pressure.md)",
-         {{.name = "name", .type = K::String, .doc = "the set's name in consolidation.csv"},
-          {.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of the points (with `max`), at the start"},
-          {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"}}},
+        point_sets_section(),
         ties_section(),
         pressure_constraints_section(),
         pore_pressure_section(),

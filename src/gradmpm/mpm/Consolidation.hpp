@@ -335,10 +335,7 @@ class ConsolidationStep final : public NonlinearProblem {
   /// The solid's constraints in the combined numbering, and the pressure constraints (the
   /// increment that takes the node's p_n to the value held).
   void constraints() {
-    std::vector<std::pair<int, double>> all;
-    const auto& c = step_.constrained();
-    for (std::size_t k = 0; k < c.size(); ++k)
-      all.push_back({(c[k] / dim) * nc + c[k] % dim, step_.increments()[k]});
+    std::vector<std::pair<int, double>> held_p;  // (equation, increment) of the pressures held
     largest_increment_ = step_.largest_increment();
     std::vector<int> held;  // the blocks holding an active node
     for (const PressureConstraint& pc : model_.pore.constraints) {
@@ -346,7 +343,7 @@ class ConsolidationStep final : public NonlinearProblem {
       held.push_back(pc.block);
       const int e = dofs_.dof(pc.node, 0) / nc;
       const double inc = pc.value - p_n_[e];
-      all.push_back({e * nc + dim, inc});
+      held_p.push_back({e * nc + dim, inc});
       largest_increment_ = std::max(largest_increment_, std::abs(inc));
     }
     // A drained face on the grid's boundary drains only while points reach it: a body
@@ -357,13 +354,7 @@ class ConsolidationStep final : public NonlinearProblem {
             "pressure_constraints[{}] holds no node a point reaches any more: the body has moved off it and would "
             "no longer drain; give the drained boundary as a band (min, max) that the body's surface stays in",
             pc.block));
-    std::sort(all.begin(), all.end());
-    all.erase(std::unique(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
-              all.end());
-    for (const auto& [dof, inc] : all) {
-      constrained_.push_back(dof);
-      increments_.push_back(inc);
-    }
+    node_block_constraints<dim>(step_.constrained(), step_.increments(), std::move(held_p), constrained_, increments_);
   }
 
   /// du (the solid's numbering) and dp (per active node) of the combined x.

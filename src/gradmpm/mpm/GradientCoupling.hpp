@@ -212,16 +212,10 @@ class GradientCouplingStep final : public NonlinearProblem {
   /// The solid's constraints in the combined numbering, and kappa_bar held at the nodes
   /// outside the Helmholtz system.
   void constraints() {
-    std::vector<std::pair<int, double>> all;
-    const auto& c = step_.constrained();
-    for (std::size_t k = 0; k < c.size(); ++k) all.push_back({(c[k] / dim) * nc + c[k] % dim, step_.increments()[k]});
+    std::vector<std::pair<int, double>> outside;
     for (int e = 0; e < dofs_.num_active_nodes(); ++e)
-      if (!held_[e]) all.push_back({e * nc + dim, 0.0});
-    std::sort(all.begin(), all.end());
-    for (const auto& [dof, inc] : all) {
-      constrained_.push_back(dof);
-      increments_.push_back(inc);
-    }
+      if (!held_[e]) outside.push_back({e * nc + dim, 0.0});
+    node_block_constraints<dim>(step_.constrained(), step_.increments(), std::move(outside), constrained_, increments_);
   }
 
   /// kappa_bar and its gradient at the regularised points for the iterate's dk, written

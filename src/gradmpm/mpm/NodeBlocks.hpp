@@ -5,6 +5,8 @@
 // e * (dim + 1) + i, the solid's du first and the extra field's last. Internal to the driver.
 #include <Eigen/SparseCore>
 
+#include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "gradmpm/core/Types.hpp"
@@ -46,6 +48,26 @@ void add_node_blocks(const SparseMatrix& K, SparseMatrix& T) {
     const int e = col / dim, i = col % dim;
     const int begin = t_outer[e * nc + i];
     for (int j = 0; j < outer[col + 1] - outer[col]; ++j) tv[begin + (j / dim) * nc + j % dim] += kv[outer[col] + j];
+  }
+}
+
+/// The combined step's constraints: the solid's (`solid` in its numbering, dim per node,
+/// with their `increments`) and the extra field's `extra` (combined numbering, increment),
+/// in ascending order of equation, one per equation (of equal ones, the smallest increment).
+template <int dim>
+void node_block_constraints(const std::vector<int>& solid, const std::vector<double>& increments,
+                            std::vector<std::pair<int, double>> extra, std::vector<int>& dofs,
+                            std::vector<double>& values) {
+  constexpr int nc = dim + 1;
+  for (std::size_t k = 0; k < solid.size(); ++k) extra.push_back({(solid[k] / dim) * nc + solid[k] % dim, increments[k]});
+  std::sort(extra.begin(), extra.end());
+  extra.erase(std::unique(extra.begin(), extra.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+              extra.end());
+  dofs.clear();
+  values.clear();
+  for (const auto& [dof, value] : extra) {
+    dofs.push_back(dof);
+    values.push_back(value);
   }
 }
 
