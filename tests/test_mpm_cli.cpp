@@ -16,7 +16,11 @@
 //  - consolidation.csv gives a point set's mean excess pore pressure and degree of
 //    consolidation: on Terzaghi's column (examples/consolidation_1d.toml) the mean is
 //    Terzaghi's p_0 (1 - U(T_v)) within 1 % of p_0 at T_v = 0.05, 0.2 and 1, and the degree
-//    is 1 - mean / peak; [[point_sets]] without pore pressure is refused.
+//    is 1 - mean / peak; [[point_sets]] without pore pressure is refused;
+//  - the factor of safety of Griffiths & Lane's (1999) Example 1 slope by strength
+//    reduction (examples/slope_gmsh_2d.toml) is within 3 % of theirs (1.4, finite
+//    elements) and of Bishop & Morgenstern's charts (1.38), found to 0.01, and
+//    mechanism.png is written.
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
@@ -246,6 +250,21 @@ TEST_F(MpmCli, ConsolidationCsvGivesTerzaghisDegreeOfConsolidation) {
     EXPECT_NEAR(mean[k], expected, 0.01 * p0) << T;
     EXPECT_NEAR(degree[k], 1.0 - mean[k] / peak, 1e-12) << T;
   }
+}
+
+TEST_F(MpmCli, SlopeGmshFactorOfSafetyMeetsGriffithsAndLane) {
+  ASSERT_EQ(run(example("slope_gmsh_2d.toml") + " -q --out " + dir.string()), 0) << slurp(dir / "stderr");
+  const auto t = csv_columns(dir / "strength_reduction.csv");
+  double stood = 0.0, failed = 1e9;
+  for (std::size_t k = 0; k < t.at("factor").size(); ++k)
+    (t.at("stands")[k] == 1.0 ? stood : failed) =
+        t.at("stands")[k] == 1.0 ? std::max(stood, t.at("factor")[k]) : std::min(failed, t.at("factor")[k]);
+  std::cout << "Griffiths & Lane Example 1: stands at F = " << stood << ", fails at F = " << failed << " ("
+            << t.at("factor").size() << " trials); theirs 1.4 (FE), Bishop 1.38\n";
+  EXPECT_LE(failed - stood, 0.01 + 1e-12);
+  EXPECT_NEAR(stood, 1.4, 0.03 * 1.4);
+  EXPECT_NEAR(stood, 1.38, 0.03 * 1.38);
+  EXPECT_TRUE(fs::exists(dir / "mechanism.png"));
 }
 
 TEST_F(MpmCli, GradientOptionsThatMakeNoSenseAreRefused) {

@@ -4,6 +4,7 @@
 
 #include "gradmpm/app/BarCase.hpp"
 #include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/app/StrengthReduction.hpp"
 #include "gradmpm/io/CaseFile.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
 #include "gradmpm/solver/linear/LinearSolver.hpp"
@@ -167,6 +168,24 @@ SectionSpec arc_length_section() {
 }
 
 /// [time] (mpm_sections).
+/// [analysis] (mpm_sections).
+SectionSpec analysis_section() {
+  const StrengthReductionSettings d;
+  return SectionSpec{"analysis", SectionKind::Section, false, "what the case computes: its load steps once, or the factor of safety by strength reduction (docs/strength-reduction.md)",
+         {{.name = "type", .type = K::String, .default_value = std::string("load-steps"), .choices = {"load-steps", "strength-reduction"},
+           .doc = "`load-steps`: the case's load steps, once (the other keys unread); `strength-reduction`: the case again per trial factor F with c / F and tan(phi) / F (sigma_y / F), bisected to the largest F that reaches equilibrium"},
+          {.name = "first_factor", .type = K::Number, .default_value = d.first_factor, .min = 0.0, .max = 1e3, .min_open = true,
+           .allowed = "a factor > 0 (at most 1000)", .doc = "strength reduction: the first trial factor; doubled while trials stand, halved while they fail, then bisected"},
+          {.name = "min_factor", .type = K::Number, .default_value = d.min_factor, .min = 0.0, .max = 1e3, .min_open = true,
+           .allowed = "a factor > 0 (at most 1000)", .doc = "strength reduction: the search stops when a trial at this factor fails"},
+          {.name = "max_factor", .type = K::Number, .default_value = d.max_factor, .min = 0.0, .max = 1e3, .min_open = true,
+           .allowed = "a factor > 0 (at most 1000)", .doc = "strength reduction: the search stops when a trial at this factor stands"},
+          {.name = "failure_displacement", .type = K::Number, .default_text = "required with strength-reduction", .min = 0.0, .max = 1e12, .min_open = true,
+           .allowed = "a length > 0", .doc = "strength reduction: a trial fails where a point has moved farther than this (MPM follows a slope that slides on to a new rest), or where Newton fails after every cut"},
+          {.name = "tolerance", .type = K::Number, .default_value = d.tolerance, .min = 0.0, .max = 1.0, .min_open = true, .max_open = true,
+           .allowed = "a number between 0 and 1", .doc = "strength reduction: the bisection stops when the factors that stood and failed are this close"}}};
+}
+
 SectionSpec time_section() {
   return SectionSpec{"time", SectionKind::Section, false, "implicit dynamics: the points' inertia, time steps from t = 0 to end_time (no [load_steps]; docs/dynamics.md)",
          {{.name = "dt", .type = K::Number, .min = 0.0, .max = 1e12, .min_open = true, .allowed = "a time step > 0",
@@ -361,6 +380,7 @@ const std::vector<SectionSpec>& mpm_sections() {
         initial_stress_section(),
         {"load_steps", SectionKind::Section, false, "the load stepping of a quasi-static analysis (required without [time] or [arc_length])",
          {{.name = "count", .type = K::Integer, .min = 1.0, .max = 1e6, .doc = "nominal number of load steps"}}},
+        analysis_section(),
         arc_length_section(),
         time_section(),
         {"nonlinear_solver", SectionKind::Section, false, "Newton-Raphson",

@@ -4,6 +4,7 @@
 // [gradient]; keys declared in app/CaseKeys.cpp, docs/case-files.md): reading returns
 // one value, MpmCase; run_mpm_case solves it and writes VTK, CSV and the progress.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,22 @@ struct MpmOutputSettings {
   int checkpoint_keep = 2;       ///< how many checkpoints are kept (the latest); 0: all
 };
 
+/// How far a run got, updated after every converged step (a failing strength-reduction
+/// trial's last converged state).
+struct MpmRunProgress {
+  double load_factor = 0.0;
+  int steps = 0, iterations = 0, cuts = 0;  ///< over the converged steps
+  double max_displacement = 0.0;            ///< the largest |x_p - X_p| of the points
+};
+
+/// A trial of a strength-reduction analysis (app/StrengthReduction.hpp): the case with
+/// its materials' strengths divided by `factor`, run once; it stops (SolverError) where a
+/// point has moved farther than `failure_displacement`.
+struct StrengthTrial {
+  double factor = 1.0;
+  double failure_displacement = 0.0;
+};
+
 /// How run_mpm_case runs a case besides what the case file says.
 struct MpmRunOptions {
   bool quiet = false;
@@ -31,6 +48,8 @@ struct MpmRunOptions {
   /// A distributed run: the folder every rank writes its piece of the points' VTU files
   /// into (rank 0's output folder); empty in a serial run.
   std::filesystem::path pieces;
+  std::optional<StrengthTrial> strength_trial;  ///< a trial of a strength-reduction analysis
+  MpmRunProgress* progress = nullptr;           ///< where the run says how far it got (optional)
 };
 
 /// Everything a case file describes.

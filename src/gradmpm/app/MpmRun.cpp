@@ -23,6 +23,7 @@
 #include "gradmpm/app/MemoryCheck.hpp"
 #include "gradmpm/app/MpmCase.hpp"
 #include "gradmpm/app/PointColumns.hpp"
+#include "gradmpm/app/StrengthReduction.hpp"
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/core/PlatformHooks.hpp"
 #include "gradmpm/core/Ranks.hpp"
@@ -182,6 +183,13 @@ std::string penalty_hint(const CaseFile& cf, const std::string& failure) {
   return "";
 }
 
+/// The case as read, or a strength-reduction trial's: its strengths divided by `factor`.
+template <int dim>
+MpmCase<dim> with_strength_factor(MpmCase<dim> c, const CaseFile& cf, const std::optional<StrengthTrial>& trial) {
+  if (trial) reduce_strengths(cf, c.model.materials, trial->factor);
+  return c;
+}
+
 /// One MPM run, in the phases `run` reads as: the case read and its header printed, the
 /// start (fresh, or a checkpoint's state and outputs), the load steps with their outputs
 /// after each (observe), then the final files. A distributed run: rank 0 writes the
@@ -200,7 +208,7 @@ class MpmRun {
         case_text_(mpm_canonical_text(cf)),  // a default spelt out is no other case
         // A distributed run's rank makes only its own points (a restart replaces them by
         // the checkpoint's points in its cells).
-        c_(read_mpm_case<dim>(cf, ranks::distributed())),
+        c_(with_strength_factor(read_mpm_case<dim>(cf, ranks::distributed()), cf, options.strength_trial)),
         m_(c_.model),
         output_(c_.output),
         dynamic_(m_.time.dynamic()),
@@ -347,6 +355,8 @@ class MpmRun {
       fmt::format_to(std::back_inserter(history_), "{},{},{}\n", lead(info.step, info.load_factor, info.time), k,
                      info.residuals[k]);
     classical_seconds_ += info.seconds;
+    const double moved = options_.progress || options_.strength_trial ? largest_displacement() : 0.0;
+    if (options_.progress) report_progress(info, moved);
     record(info.step, info.load_factor, info.time, &info);
     if (writes_) {
       StagedOutputs out(dir_);
@@ -359,6 +369,26 @@ class MpmRun {
       if (!quiet_) print_step<dim>(info, m_.time.inertial());
     }
     if (checkpoints_.due(info)) checkpoint(info);
+    if (options_.strength_trial && moved > options_.strength_trial->failure_displacement)
+      throw SolverError(fmt::format("load step {} (load factor {:.6g}): a point has moved {:.4g}, beyond "
+                                    "analysis.failure_displacement = {:g}",
+                                    info.step, info.load_factor, moved, options_.strength_trial->failure_displacement));
+  }
+
+  double largest_displacement() const {
+    double largest = 0.0;
+    for (int p = 0; p < m_.points.size(); ++p)
+      largest = std::max(largest, (m_.points.position[p] - m_.points.original_position[p]).norm());
+    return largest;
+  }
+
+  void report_progress(const StepInfo& info, double moved) {
+    MpmRunProgress& p = *options_.progress;
+    p.load_factor = info.load_factor;
+    p.steps = info.step;
+    p.iterations += info.phases.iterations;
+    p.cuts += info.cuts;
+    p.max_displacement = moved;
   }
 
   /// A distributed run's ranks write their points each (no rank holds every point), rank
@@ -611,6 +641,8 @@ void run(CaseFile& cf, const fs::path& dir, const MpmRunOptions& options) {
 }  // namespace
 
 void run_mpm_case(CaseFile& cf, const fs::path& out_dir, const MpmRunOptions& options) {
+  if (!options.strength_trial)
+    if (const auto reduction = read_strength_reduction(cf)) return run_strength_reduction(cf, out_dir, options, *reduction);
   switch (mpm_case_dimension(cf)) {
     case 1:
       return run<1>(cf, out_dir, options);

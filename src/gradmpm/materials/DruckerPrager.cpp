@@ -31,9 +31,20 @@ std::pair<double, double> cone(double deg, const std::string& fit) {
 
 DruckerPrager::DruckerPrager(const IsotropicElasticity& e, double rho, const DruckerPragerParameters& p)
     : PlasticLaw(e, rho, "equivalent plastic strain kappa = int xi d_gamma"),
+      params_(p),
       cohesion_{p.cohesion, p.hardening, p.residual_cohesion} {
   std::tie(eta_, xi_) = cone(p.friction_angle, p.fit);
   eta_bar_ = cone(p.dilation_angle, p.fit).first;  // equal to eta_ when psi = phi
+}
+
+std::shared_ptr<PlasticLaw> DruckerPrager::strength_divided(double F) const {
+  DruckerPragerParameters p = params_;
+  p.cohesion /= F;
+  p.hardening /= F;
+  p.residual_cohesion /= F;
+  p.friction_angle = reduced_angle(p.friction_angle, F);
+  p.dilation_angle = reduced_angle(p.dilation_angle, F);
+  return std::make_shared<DruckerPrager>(elasticity(), density(), p);
 }
 
 void DruckerPrager::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {

@@ -43,6 +43,8 @@ class DruckerPrager final : public PlasticLaw {
  private:
   const LinearStrength& law_strength() const override { return cohesion_; }
   std::shared_ptr<PlasticLaw> clone() const override { return std::make_shared<DruckerPrager>(*this); }
+  std::shared_ptr<PlasticLaw> strength_divided(double F) const override;
+  DruckerPragerParameters params_;
   LinearStrength cohesion_;
   double eta_, xi_, eta_bar_;
 };

@@ -107,6 +107,13 @@ class Material {
   int state_size() const;
   /// Writes the initial values of every state variable.
   void initial_state(double* state) const;
+  /// Whether the law has a strength (yields); elastic laws have none.
+  virtual bool has_strength() const { return false; }
+  /// This law with its strength divided by the factor F of a strength-reduction analysis
+  /// (app/StrengthReduction.hpp): c / F with tan(phi) / F and tan(psi) / F (Mohr-Coulomb,
+  /// Drucker-Prager), sigma_y / F (von Mises), hardening and residual values with them;
+  /// null when the law has no strength, or one it cannot reduce (Modified Cam-Clay).
+  virtual std::shared_ptr<const Material> strength_reduced(double /*F*/) const { return nullptr; }
   /// Writes the state of a point at rest under the stress `sigma` (F = I, so Cauchy and
   /// Kirchhoff agree): an initial (geostatic) stress, mpm/InitialStress.hpp. Returns false
   /// when the law cannot start from a stress. The state need not be admissible: the caller

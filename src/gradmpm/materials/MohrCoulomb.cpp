@@ -44,6 +44,7 @@ using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
 
 MohrCoulomb::MohrCoulomb(const IsotropicElasticity& e, double rho, const MohrCoulombParameters& p)
     : PlasticLaw(e, rho, "equivalent plastic strain kappa = int sqrt(2/3) |d eps_p|"),
+      params_(p),
       k_(ratio(p.friction_angle)),
       m_(ratio(p.dilation_angle)),  // equal to k_ when psi = phi
       sigma_t_(p.tension_cutoff),
@@ -58,6 +59,17 @@ MohrCoulomb::MohrCoulomb(const IsotropicElasticity& e, double rho, const MohrCou
       {{k_, 0, -1}, {k_, -1, 0}, {0, k_, -1}, {-1, k_, 0}, {-1, 0, k_}, {0, -1, k_}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
   b_ = {
       {{m_, 0, -1}, {m_, -1, 0}, {0, m_, -1}, {-1, m_, 0}, {-1, 0, m_}, {0, -1, m_}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+}
+
+std::shared_ptr<PlasticLaw> MohrCoulomb::strength_divided(double F) const {
+  MohrCoulombParameters p = params_;
+  p.cohesion /= F;
+  p.hardening /= F;
+  p.residual_cohesion /= F;
+  p.tension_cutoff /= F;
+  p.friction_angle = reduced_angle(p.friction_angle, F);
+  p.dilation_angle = reduced_angle(p.dilation_angle, F);
+  return std::make_shared<MohrCoulomb>(elasticity(), density(), p);
 }
 
 MohrCoulomb::Region MohrCoulomb::region(const MaterialResponse& r) {

@@ -75,6 +75,9 @@ class MohrCoulomb final : public PlasticLaw {
 
   const LinearStrength& law_strength() const override { return cohesion_; }
   std::shared_ptr<PlasticLaw> clone() const override { return std::make_shared<MohrCoulomb>(*this); }
+  std::shared_ptr<PlasticLaw> strength_divided(double F) const override;
+
+  MohrCoulombParameters params_;
 
   double k_, m_, sigma_t_;
   std::array<Eigen::Vector3d, 9> a_, b_;  ///< the planes' normals and flow directions

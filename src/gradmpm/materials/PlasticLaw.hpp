@@ -7,6 +7,7 @@
 // iteration (mpm/ImplicitGradient.hpp) writes into the state the step starts from, and
 // its strength is s(kappa_hat), kappa_hat = (1 - m) kappa + m kappa_bar (over-nonlocal).
 #include <algorithm>
+#include <cmath>
 #include <initializer_list>
 #include <memory>
 #include <string>
@@ -87,6 +88,15 @@ class PlasticLaw : public Material {
                            "nonlocal kappa_bar, kappa_bar - l^2 laplacian kappa_bar = kappa ([regularisation])"});
     return copy;
   }
+  bool has_strength() const override { return true; }
+  /// The law's strength_divided (its parameters' strength over F), regularised as this one is.
+  std::shared_ptr<const Material> strength_reduced(double F) const override {
+    std::shared_ptr<PlasticLaw> copy = strength_divided(F);
+    if (!copy) return nullptr;
+    copy->vars_ = vars_;
+    copy->nonlocal_weight_ = nonlocal_weight_;
+    return copy;
+  }
   /// m of kappa_hat = (1 - m) kappa + m kappa_bar; 0 when the law is not regularised.
   double nonlocal_weight() const { return nonlocal_weight_; }
 
@@ -97,6 +107,14 @@ class PlasticLaw : public Material {
   /// The law's strength in its own kappa (yield stress or cohesion).
   virtual const LinearStrength& law_strength() const = 0;
   virtual std::shared_ptr<PlasticLaw> clone() const = 0;
+  /// A new law of this kind from its parameters with the strength divided by F (see
+  /// Material::strength_reduced); null when the law's strength cannot be reduced.
+  virtual std::shared_ptr<PlasticLaw> strength_divided(double /*F*/) const { return nullptr; }
+  /// The friction (or dilation) angle, degrees, whose tangent is tan(degrees) / F.
+  static double reduced_angle(double degrees, double F) {
+    constexpr double rad = 3.14159265358979323846 / 180.0;
+    return std::atan(std::tan(degrees * rad) / F) / rad;
+  }
   /// The strength the return mapping of one point sees: the law's own, or with
   /// regularisation s(kappa_hat) in the local kappa, kappa_bar frozen at state_n's value.
   LinearStrength local_strength(const double* state_n) const {

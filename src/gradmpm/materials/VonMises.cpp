@@ -19,6 +19,7 @@ const Eigen::Vector3d kOnes = Eigen::Vector3d::Ones();
 
 VonMises::VonMises(const IsotropicElasticity& e, double rho, const VonMisesParameters& p)
     : PlasticLaw(e, rho, "equivalent plastic strain kappa = int sqrt(2/3) |d eps_p|"),
+      params_(p),
       yield_{p.yield_stress, p.hardening, p.residual_yield_stress} {}
 
 void VonMises::update(const Mat3& dF, const double* state_n, double* state, MaterialResponse& out) const {

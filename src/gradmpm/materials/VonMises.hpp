@@ -35,6 +35,12 @@ class VonMises final : public PlasticLaw {
  private:
   const LinearStrength& law_strength() const override { return yield_; }
   std::shared_ptr<PlasticLaw> clone() const override { return std::make_shared<VonMises>(*this); }
+  std::shared_ptr<PlasticLaw> strength_divided(double F) const override {
+    return std::make_shared<VonMises>(elasticity(), density(),
+                                      VonMisesParameters{params_.yield_stress / F, params_.hardening / F,
+                                                         params_.residual_yield_stress / F});
+  }
+  VonMisesParameters params_;
   LinearStrength yield_;
 };
 
