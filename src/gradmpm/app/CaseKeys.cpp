@@ -338,6 +338,8 @@ const std::vector<SectionSpec>& mpm_sections() {
         {"mpm", SectionKind::Section, false, "options of the MPM itself",
          {{.name = "fbar", .type = K::Boolean, .default_value = false,
            .doc = "F-bar against volumetric locking (Coombs et al. 2018): the points of a cell share its volume change; finite-strain laws only; non-symmetric tangent"},
+          {.name = "axisymmetric", .type = K::Boolean, .default_value = false,
+           .doc = "2D only: axisymmetric about the y axis (r-z: x is the radius, > 0 at every point); the hoop strain u_r / r; volumes, masses, point loads and reactions per radian (docs/axisymmetry.md)"},
           {.name = "ghost_penalty", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e3,
            .allowed = "a number from 0 to 1000",
            .doc = "ghost stabilisation of cells empty of points (Burman 2010, Coombs 2023): alpha in the penalty alpha E h on the jumps of the step's displacement gradient across their faces; 0 = off; 1e-3 for perfectly plastic F-bar runs (docs/plasticity.md)"}}},

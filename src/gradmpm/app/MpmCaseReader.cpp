@@ -439,6 +439,38 @@ void read_mpm_options(const CaseFile& cf, Model<dim>& m) {
     cf.require(!m.fbar || mat->finite_strain(), "mpm.fbar",
                fmt::format("false with the small-strain model \"{}\" (F-bar needs finite-strain laws)", mat->model()));
   m.ghost_penalty = read_number(cf, "mpm", mpm_section("mpm").key("ghost_penalty"));
+  m.axisymmetric = read_boolean(cf, "mpm", mpm_section("mpm").key("axisymmetric"));
+  cf.require(!m.axisymmetric || dim == 2, "mpm.axisymmetric", "false in a 1D or 3D case (axisymmetry is 2D: r-z)");
+}
+
+/// [mpm] axisymmetric: what runs with it (the rest is refused, naming its key), and the
+/// points' volumes and masses per radian: r_p times the area they were made with.
+template <int dim>
+void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, const NewtonSettings& newton,
+                       Model<dim>& m) {
+  if (!m.axisymmetric) return;
+  const std::string why = "with [mpm] axisymmetric = true (not built for r-z yet: docs/axisymmetry.md)";
+  cf.require(!m.fbar, "mpm.fbar", "false " + why);
+  cf.require(m.ghost_penalty == 0.0, "mpm.ghost_penalty", "0 " + why);
+  cf.require(m.rigid_boxes.empty(), "rigid_boxes", "no [[rigid_boxes]] " + why);
+  cf.require(m.ties.empty(), "ties", "no [[ties]] " + why);
+  cf.require(!m.pore.active(), "pore_pressure", "no pore pressure " + why);
+  cf.require(gradient.variant == GradientVariant::None, "gradient.variant", "\"none\" " + why);
+  cf.require(m.regularisation.length_scale == 0.0, "regularisation.type", "\"none\" " + why);
+  cf.require(!cf.has_section("initial_stress"), "initial_stress", "no [initial_stress] " + why);
+  cf.require(!newton.arc_length.enabled, "arc_length", "no [arc_length] " + why);
+  cf.require(!ranks::distributed(), "mpm.axisymmetric", "false in a run on more than one rank " + why);
+  auto& pts = m.points;
+  for (int p = 0; p < pts.size(); ++p) {
+    const double r = pts.position[p][0];
+    if (!(r > 0.0))
+      throw InputError(fmt::format("{}: mpm.axisymmetric: expected every point at r = x > 0 (the axis is x = 0), "
+                                   "got a point at x = {:g}",
+                                   cf.name(), r));
+    pts.volume[p] *= r;
+    pts.original_volume[p] *= r;
+    pts.mass[p] *= r;
+  }
 }
 
 /// The nodes a [[constraints]] block selects: a face of the grid, or a box.
@@ -889,6 +921,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   GradientSettings gradient = gradient_settings;
   gradient.linear_solver = newton.linear_solver;
   const MpmOutputSettings output = read_output(cf, m, bodies.total_points);
+  make_axisymmetric(cf, gradient, newton, m);
   m.initialise_state();
   read_initial_stress(cf, names, m);  // (writes the states)
   // (one process's share of the machine's estimate, which a run prints beside its peak)

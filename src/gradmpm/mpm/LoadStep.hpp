@@ -208,12 +208,13 @@ class LoadStep final : public ParametrisedProblem {
     f_int = Vector::Zero(dofs_.num_dofs());
     grads_.resize(np);
     weights_.resize(np);
+    if (model_.axisymmetric) hoop_.resize(np);
     int inverted = kNone;
     double inverted_det = 0.0;
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {
       const Stencil<dim>& s = st_[p];
-      const Mat3 g = increment_gradient(s, dofs_, du);
+      const Mat3 g = point_increment(p, du);
       const Mat3 dF = Mat3::Identity() + g;
       const double detdF = dF.determinant();
       if (!(detdF > 0.0)) {
@@ -241,6 +242,10 @@ class LoadStep final : public ParametrisedProblem {
         for (int a = 0; a < s.count; ++a) G[a] = s.dN[a];
         weights_[p] = pts.volume[p];
       }
+      if (model_.axisymmetric) {  // d(eta_r / r) / d eta_a at r_n+1 (finite strain) or r_n
+        const double r = pts.position[p][0] * (mat.finite_strain() ? dF(2, 2) : 1.0);
+        for (int a = 0; a < s.count; ++a) hoop_[p][a] = s.N[a] / r;
+      }
     }
     if (split_) lowest_over_ranks(inverted, inverted_det);  // every rank fails, or none
     if (inverted < kNone) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, inverted_det)};
@@ -266,6 +271,8 @@ class LoadStep final : public ParametrisedProblem {
             for (int j = 0; j < dim; ++j) v += stress(i, j) * G[a][j];
             f[a][i] += w * v;
           }
+        if (model_.axisymmetric)  // the hoop stress on the virtual hoop strain eta_r / r
+          for (int a = 0; a < s.count; ++a) f[a][0] += w * stress(2, 2) * hoop_[*q][a];
       }
       for (int a = 0; a < s.count; ++a)
         for (int i = 0; i < dim; ++i) f_int[dofs_.dof(s.node[a], i)] += f[a][i];
@@ -309,9 +316,11 @@ class LoadStep final : public ParametrisedProblem {
           // K_(a i)(b k) = w sum_j G_aj (sum_l A_ijkl G_bl): the inner sum once per node b.
           const auto& G = grads_[p];
           Mat9 A;
-          model_.materials[model_.points.material[p]]->tangent(response_[p], dim, A);
+          // (axisymmetric: the hoop entries, index 2, too)
+          model_.materials[model_.points.material[p]]->tangent(response_[p], model_.axisymmetric ? 3 : dim, A);
           if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[p]);
           const double w = weights_[p];
+          if (model_.axisymmetric) return add_hoop_tangent(s, G, hoop_[p], A, w, symmetric, Ke);
           for (int b = 0; b < s.count; ++b) {
             double H[dim][dim][dim];  // H[i][j][k] = sum_l A_ijkl G_bl
             for (int i = 0; i < dim; ++i)
@@ -371,7 +380,7 @@ class LoadStep final : public ParametrisedProblem {
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {
       Vec<dim> dx;
-      const Mat3 g = increment_gradient(st_[p], dofs_, du, &dx);
+      const Mat3 g = point_increment(p, du, &dx);
       const bool finite = m.material_of(p).finite_strain();
       pts.work[p] +=
           step_work(pts, p, material_increment(p, Mat3::Identity() + g), response_[p].stress, finite, fbar_ != nullptr);
@@ -398,6 +407,7 @@ class LoadStep final : public ParametrisedProblem {
     decltype(response_)().swap(response_);
     std::vector<double>().swap(trial_state_);
     std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>>().swap(grads_);
+    std::vector<std::array<double, Stencil<dim>::capacity>>().swap(hoop_);
     std::vector<double>().swap(weights_);
   }
 
@@ -586,6 +596,37 @@ class LoadStep final : public ParametrisedProblem {
     return {inverted, det};
   }
 
+  /// grad_n du at point p (increment_gradient), with the hoop component du_r / r_n when
+  /// axisymmetric; `dx`: the point's displacement.
+  Mat3 point_increment(int p, const Vector& du, Vec<dim>* dx = nullptr) const {
+    Vec<dim> u;
+    Mat3 g = increment_gradient(st_[p], dofs_, du, model_.axisymmetric || dx ? &u : nullptr);
+    if (model_.axisymmetric) g(2, 2) = u[0] / model_.points.position[p][0];
+    if (dx) *dx = u;
+    return g;
+  }
+
+  /// One point's axisymmetric tangent: K_(a i)(b k) = w grad eta : A : grad du over the
+  /// 3 x 3 gradients of the nodes' unit displacements, in-plane G (i, j < 2) and the hoop
+  /// entry (2, 2) = hoop_a of a radial one (as the 3D tangent of a field without torsion).
+  static void add_hoop_tangent(const Stencil<dim>& s, const std::array<Vec<dim>, Stencil<dim>::capacity>& G,
+                               const std::array<double, Stencil<dim>::capacity>& hoop, const Mat9& A, double w,
+                               bool symmetric, typename Assembler<dim>::LocalMatrix& Ke) {
+    // B(a, i): the 9 entries of grad of node a's unit displacement in component i.
+    const auto B = [&](int a, int i) {
+      Eigen::Matrix<double, 9, 1> b = Eigen::Matrix<double, 9, 1>::Zero();
+      for (int j = 0; j < dim; ++j) b[3 * i + j] = G[a][j];
+      if (i == 0) b[8] = hoop[a];
+      return b;
+    };
+    for (int b = 0; b < s.count; ++b)
+      for (int k = 0; k < dim; ++k) {
+        const Eigen::Matrix<double, 9, 1> AB = w * (A * B(b, k));
+        for (int a = symmetric ? b : 0; a < s.count; ++a)
+          for (int i = 0; i < dim; ++i) Ke(a * dim + i, b * dim + k) += B(a, i).dot(AB);
+      }
+  }
+
   /// Point p's number in the whole body (a distributed run's points are a subset).
   int id(int p) const { return split_ ? ids_[p] : p; }
   static constexpr int kNone = std::numeric_limits<int>::max();  ///< no failed point
@@ -625,6 +666,8 @@ class LoadStep final : public ParametrisedProblem {
   /// in, and their weights.
   std::vector<std::array<Vec<dim>, Stencil<dim>::capacity>> grads_;
   std::vector<double> weights_;
+  /// Axisymmetric: each point's N_a / r (at r_n+1 for finite strain, r_n for small).
+  std::vector<std::array<double, Stencil<dim>::capacity>> hoop_;
 };
 
 }  // namespace gradmpm::detail

@@ -129,6 +129,10 @@ struct Model {
   BasisKind basis = BasisKind::MPM;
   bool fbar = false;                    ///< F-bar against volumetric locking (mpm/FBar.hpp); finite-strain laws only
   double ghost_penalty = 0.0;           ///< alpha of the ghost stabilisation (mpm/GhostPenalty.hpp); 0 = off
+  /// 2D axisymmetric (r-z): x is the radius r > 0, y the axis z; the out-of-plane
+  /// component is the hoop one (strain u_r / r); volumes, masses, forces and reactions are
+  /// per radian (docs/axisymmetry.md).
+  bool axisymmetric = false;
   Vec<dim> gravity = Vec<dim>::Zero();  ///< acceleration at load factor 1 (body force m_p g)
   /// Gravity acts in full from the first step, not ramped with the load factor: the points
   /// start from an initial stress in balance with it ([initial_stress], mpm/InitialStress.hpp).

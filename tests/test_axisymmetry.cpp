@@ -1,0 +1,168 @@
+// Requirements on the axisymmetric MPM ([mpm] axisymmetric = true: r-z, x the radius;
+// docs/axisymmetry.md):
+//  - the assembled tangent, hoop terms included, is the derivative of the internal force
+//    (central differences, 1e-6 of its largest entry) for Hencky, von Mises past yield and
+//    Mohr-Coulomb past yield;
+//  - a thick-walled cylinder (a = 1, b = 2, plane strain along z) with its bore pushed out
+//    by u_a: the bore's pressure (reaction per radian / a H) is Lame's within 0.5 %, and
+//    the cells' mean sigma_rr and sigma_thetatheta are Lame's within 0.5 % of it, with the
+//    small-strain linear-elastic law and with Hencky;
+//  - the same cylinder of von Mises steel reaches Hill's (1950) limit pressure
+//    p = (2 / sqrt 3) sigma_y ln(b / a) within 2 %;
+//  - the points' volumes and masses are per radian: r_p times their area.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+#include "CliTestUtil.hpp"
+#include "MpmTestUtil.hpp"
+#include "gradmpm/app/MpmCase.hpp"
+#include "gradmpm/mpm/LoadStep.hpp"
+
+using namespace gradmpm;
+using namespace gradmpm::test;
+
+namespace {
+constexpr double kA = 1.0, kB = 2.0, kHeight = 0.25, kCell = 0.0625;
+
+/// The cylinder a <= r <= b, 0 <= z <= H, its bore's nodes pushed out by u_a (named
+/// "bore"), its ends on rollers; `material`: the [materials.steel] keys.
+std::string cylinder(const std::string& material, double u_a, int steps) {
+  return R"([grid]
+origin = [0.0, 0.0]
+cell_size = 0.0625
+cells = [40, 8]
+[basis]
+type = "mpm"
+[mpm]
+axisymmetric = true
+[materials.steel]
+)" + material + R"(
+[[bodies]]
+material = "steel"
+min = [1.0, 0.0]
+max = [2.0, 0.25]
+[[constraints]]
+name = "bore"
+min = [0.99, -1.0]
+max = [1.01, 1.0]
+fix = ["x"]
+displacement = [)" +
+         std::to_string(u_a) + R"(, 0.0]
+[[constraints]]
+min = [0.0, 0.0]
+max = [3.0, 0.0]
+fix = ["y"]
+[[constraints]]
+min = [0.0, 0.25]
+max = [3.0, 0.25]
+fix = ["y"]
+[load_steps]
+count = )" + std::to_string(steps) +
+         R"(
+[output]
+vtk_every = 0
+plot = false
+)";
+}
+
+/// Lame's plane-strain cylinder with u(a) = u_a and sigma_rr(b) = 0: u = A r + B / r.
+struct Lame {
+  double lambda, mu, A, B;
+  Lame(double E, double nu, double u_a) {
+    lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    mu = E / (2 * (1 + nu));
+    B = u_a / (mu * kA / ((lambda + mu) * kB * kB) + 1 / kA);
+    A = mu * B / ((lambda + mu) * kB * kB);
+  }
+  double srr(double r) const { return 2 * (lambda + mu) * A - 2 * mu * B / (r * r); }
+  double stt(double r) const { return 2 * (lambda + mu) * A + 2 * mu * B / (r * r); }
+};
+
+class Cylinder : public ScratchDirTest {
+ protected:
+  /// Runs the cylinder; returns reactions.csv's and points_final.csv's columns.
+  std::pair<std::map<std::string, std::vector<double>>, std::map<std::string, std::vector<double>>> run(
+      const std::string& material, double u_a, int steps) {
+    const fs::path file = dir / "cylinder.toml", out = dir / "out";
+    std::ofstream(file) << cylinder(material, u_a, steps);
+    const CliResult r = run_gradmpm("run " + file.string() + " -q --out " + out.string());
+    EXPECT_EQ(r.code, 0) << r.err;
+    return {csv_columns(out / "reactions.csv"), csv_columns(out / "points_final.csv")};
+  }
+};
+}  // namespace
+
+TEST(Axisymmetry, TangentIsTheDerivativeOfTheInternalForce) {
+  for (const std::string material :
+       {"model = \"hencky\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0",
+        "model = \"von-mises\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\nyield_stress = 1.0",
+        "model = \"mohr-coulomb\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\ncohesion = 0.5\nfriction_angle = "
+        "30.0\ndilation_angle = 10.0"}) {
+    CaseFile cf = CaseFile::parse(cylinder(material, 0.01, 1), "cylinder.toml");
+    const Model<2> m = read_mpm_case<2>(cf).model;
+    detail::LoadStep<2> step(m, 1.0, 1.0);
+    const TangentCheck check = assembled_tangent_check(step, 2e-3, 11, 1e-7);
+    std::cout << material.substr(0, material.find('\n')) << ": |K - K_fd| / |K| = " << check.error << "\n";
+    EXPECT_LT(check.error, 1e-6) << material;
+  }
+}
+
+TEST(Axisymmetry, VolumesAndMassesArePerRadian) {
+  CaseFile cf = CaseFile::parse(cylinder("model = \"hencky\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 2.0", 0.0, 1),
+                                "cylinder.toml");
+  const Model<2> m = read_mpm_case<2>(cf).model;
+  double v = 0.0, mass = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    v += m.points.volume[p];
+    mass += m.points.mass[p];
+  }
+  // (b^2 - a^2) / 2 H per radian, exact for the midpoint rule on r (linear in r)
+  EXPECT_NEAR(v, 0.5 * (kB * kB - kA * kA) * kHeight, 1e-14);
+  EXPECT_NEAR(mass, 2.0 * v, 1e-14);
+}
+
+TEST_F(Cylinder, ElasticBoreMeetsLame) {
+  const double u_a = 1e-4;
+  const Lame lame(1e3, 0.3, u_a);
+  const double p = -lame.srr(kA);
+  for (const std::string model : {"linear-elastic", "hencky"}) {
+    const auto [reactions, points] = run("model = \"" + model + "\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0", u_a, 1);
+    const double bore = reactions.at("rx").back() / (kA * kHeight);
+    // The cells' volume-weighted means against Lame at the cells' centres.
+    std::map<int, std::array<double, 3>> cells;
+    for (std::size_t q = 0; q < points.at("X").size(); ++q) {
+      auto& c = cells[static_cast<int>(points.at("X")[q] / kCell)];
+      const double w = points.at("volume")[q];
+      c[0] += w * points.at("sxx")[q];
+      c[1] += w * points.at("szz")[q];
+      c[2] += w;
+    }
+    double err_rr = 0.0, err_tt = 0.0;
+    for (const auto& [c, s] : cells) {
+      const double r = (c + 0.5) * kCell;
+      err_rr = std::max(err_rr, std::abs(s[0] / s[2] - lame.srr(r)) / p);
+      err_tt = std::max(err_tt, std::abs(s[1] / s[2] - lame.stt(r)) / p);
+    }
+    std::cout << model << ": bore pressure " << bore << " (Lame " << p << ", " << (bore / p - 1) * 100
+              << " %); cells' sigma_rr within " << err_rr * 100 << " %, sigma_tt within " << err_tt * 100
+              << " % of p\n";
+    EXPECT_NEAR(bore, p, 0.005 * p) << model;
+    EXPECT_LT(err_rr, 0.005) << model;
+    EXPECT_LT(err_tt, 0.005) << model;
+  }
+}
+
+TEST_F(Cylinder, VonMisesBoreReachesHillsLimitPressure) {
+  const auto [reactions, points] =
+      run("model = \"von-mises\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\nyield_stress = 1.0", 0.02, 20);
+  const double hill = 2.0 / std::sqrt(3.0) * std::log(kB / kA);
+  double peak = 0.0;
+  for (const double r : reactions.at("rx")) peak = std::max(peak, r / (kA * kHeight));
+  std::cout << "von Mises cylinder: peak bore pressure " << peak << ", Hill's " << hill << " ("
+            << (peak / hill - 1) * 100 << " %)\n";
+  EXPECT_NEAR(peak, hill, 0.02 * hill);
+}
