@@ -9,7 +9,10 @@
 //    small-strain linear-elastic law and with Hencky;
 //  - the same cylinder of von Mises steel reaches Hill's (1950) limit pressure
 //    p = (2 / sqrt 3) sigma_y ln(b / a) within 2 %;
-//  - the points' volumes and masses are per radian: r_p times their area.
+//  - the points' volumes and masses are per radian: r_p times their area;
+//  - a solid cylinder (r <= 1, on the axis) resting on a rigid box (uGIMP): the box carries
+//    its weight per radian, rho g H R^2 / 2, to 1e-12, and (nu = 0) every bottom point
+//    sinks alike: the contact's area is per radian too (r_p times the domain's face).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -165,4 +168,55 @@ TEST_F(Cylinder, VonMisesBoreReachesHillsLimitPressure) {
   std::cout << "von Mises cylinder: peak bore pressure " << peak << ", Hill's " << hill << " ("
             << (peak / hill - 1) * 100 << " %)\n";
   EXPECT_NEAR(peak, hill, 0.02 * hill);
+}
+
+TEST_F(Cylinder, SolidCylinderRestsOnARigidBoxPerRadian) {
+  const fs::path file = dir / "column.toml", out = dir / "out";
+  std::ofstream(file) << R"([grid]
+origin = [0.0, -0.5]
+cell_size = 0.125
+cells = [12, 14]
+[basis]
+type = "gimp"
+[mpm]
+axisymmetric = true
+[materials.soil]
+model = "hencky"
+young = 1.0e3
+poisson = 0.0
+density = 1.0
+[[bodies]]
+material = "soil"
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+[loads]
+gravity = [0.0, -10.0]
+[[rigid_boxes]]
+name = "base"
+min = [0.0, -0.5]
+max = [1.5, 0.0]
+[[constraints]]
+min = [0.0, -0.5]
+max = [0.0, 1.5]
+fix = ["x"]
+[load_steps]
+count = 2
+[output]
+vtk_every = 0
+plot = false
+)";
+  const CliResult r = run_gradmpm("run " + file.string() + " -q --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto reactions = csv_columns(out / "reactions.csv");
+  EXPECT_NEAR(reactions.at("ry").back(), 10.0 * 1.0 * 0.5, 1e-12 * 5.0);  // rho g H R^2 / 2
+  const auto points = csv_columns(out / "points_final.csv");
+  double lowest = 1e9, highest = -1e9;
+  for (std::size_t q = 0; q < points.at("Y").size(); ++q)
+    if (points.at("Y")[q] < 0.07) {  // the bottom row
+      const double u = points.at("y")[q] - points.at("Y")[q];
+      lowest = std::min(lowest, u);
+      highest = std::max(highest, u);
+    }
+  std::cout << "solid cylinder on a rigid box: bottom points sink " << lowest << " to " << highest << "\n";
+  EXPECT_LT(highest - lowest, 1e-9 * std::abs(lowest));
 }

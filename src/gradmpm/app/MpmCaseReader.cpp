@@ -452,7 +452,6 @@ void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, con
   const std::string why = "with [mpm] axisymmetric = true (not built for r-z yet: docs/axisymmetry.md)";
   cf.require(!m.fbar, "mpm.fbar", "false " + why);
   cf.require(m.ghost_penalty == 0.0, "mpm.ghost_penalty", "0 " + why);
-  cf.require(m.rigid_boxes.empty(), "rigid_boxes", "no [[rigid_boxes]] " + why);
   cf.require(m.ties.empty(), "ties", "no [[ties]] " + why);
   cf.require(!m.pore.active(), "pore_pressure", "no pore pressure " + why);
   cf.require(gradient.variant == GradientVariant::None, "gradient.variant", "\"none\" " + why);
@@ -597,6 +596,8 @@ void read_rigid_boxes(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m)
     if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
     check_rigid_box(cf, k, b, g.origin, g.hi, m);
     b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / g.h.minCoeff();
+    b.friction = read_number(cf, k, rigid.key("friction"));
+    b.adhesion = read_number(cf, k, rigid.key("adhesion"));
     int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
     for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
       bool inside = true;

@@ -61,7 +61,8 @@ class LoadStep final : public ParametrisedProblem {
                    : nullptr),
         contact_(m.rigid_boxes.empty()
                      ? nullptr
-                     : std::make_unique<RigidContact<dim>>(m.rigid_boxes, m.points, st_, dofs_, lambda_end)),
+                     : std::make_unique<RigidContact<dim>>(m.rigid_boxes, m.points, st_, dofs_, lambda_end, dlambda,
+                                                         m.axisymmetric)),
         assembler_(st_, m.points, dofs_, &m.grid),
         response_(m.points.size()),
         trial_state_(m.points.state.size()) {
@@ -376,6 +377,7 @@ class LoadStep final : public ParametrisedProblem {
   void commit(Model<dim>& m, const Vector& du) {
     auto& pts = m.points;
     pts.state = trial_state_;  // the material histories of the converged iterate
+    if (contact_) contact_->store_shear(pts.contact_shear);  // (frictional boxes' stick)
     const int np = pts.size();
 #pragma omp parallel for schedule(static) if (use_threads(np))
     for (int p = 0; p < np; ++p) {

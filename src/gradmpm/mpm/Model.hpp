@@ -62,6 +62,8 @@ struct RigidBox {
   Vec<dim> lo, hi;                    ///< the box at load factor 0
   Vec<dim> total = Vec<dim>::Zero();  ///< its displacement at load factor 1
   double stiffness = 0.0;             ///< k: contact pressure per unit penetration
+  double friction = 0.0;              ///< mu: Coulomb's coefficient (0: frictionless)
+  double adhesion = 0.0;              ///< a: shear strength at no pressure (a Tresca interface: mu = 0)
 };
 
 /// The implicit-gradient regularisation of the softening laws ([regularisation];
@@ -182,6 +184,8 @@ struct Model {
   /// false when some material's consistent tangent is not symmetric (or F-bar is on).
   bool symmetric_tangent() const {
     if (fbar) return false;
+    for (const auto& b : rigid_boxes)  // sliding couples the shear to the pressure
+      if (b.friction > 0.0) return false;
     for (const auto& m : materials)
       if (!m->symmetric_tangent()) return false;
     return true;

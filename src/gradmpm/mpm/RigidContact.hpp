@@ -1,6 +1,6 @@
 #pragma once
-// Rigid, frictionless, axis-aligned boxes that push material points by penalty contact: a
-// rigid footing, a platen, an indenter. A footing held on a row of grid nodes
+// Rigid axis-aligned boxes that push material points by penalty contact, frictionless or
+// with Coulomb friction and adhesion: a rigid footing, a platen, an indenter, a shaft. A footing held on a row of grid nodes
 // ([[constraints]]) loses its grip on the material once that has moved half a cell away
 // from the row (the nodes then reach the points only through the edge of their supports);
 // a box acting on the points themselves follows the material to any depth.
@@ -11,7 +11,17 @@
 // point's domain face area across n, k = penalty per unit area and penetration), applied
 // to the grid through N_a(x_p). The contact stiffness k A_p N_a N_b (n (x) n) is symmetric
 // and lives in the point's stencil, so the sparsity pattern does not change.
+//
+// Friction (RigidBox::friction mu, adhesion a): the tangential force T on the point is the
+// last step's (MaterialPoints::contact_shear) less k A_p times the point's slip against
+// the box over the step (a stick spring as stiff as the normal one), returned to the
+// Coulomb-Tresca limit |T| <= a A_p + mu k A_p g when it exceeds it: sliding, T along the
+// trial's direction. Its tangent: stick, k A_p N_a N_b on the tangential components;
+// slide, k A_p (limit / |T_trial|) (I - d d^T) N_a N_b there and mu k A_p sign d N_a N_b
+// from the tangential rows to the normal column (the pressure sets the limit): not
+// symmetric. Axisymmetric (Model::axisymmetric): A_p is per radian, times r_p.
 #include <limits>
+#include <tuple>
 #include <vector>
 
 #include "gradmpm/core/Ranks.hpp"
@@ -26,59 +36,101 @@ namespace gradmpm {
 template <int dim>
 class RigidContact {
  public:
+  /// The boxes where the step ends (lambda_end), having moved dlambda of their travel.
   RigidContact(const std::vector<RigidBox<dim>>& boxes, const MaterialPoints<dim>& pts, const PointStencils<dim>& st,
-               const DofMap& dofs, double lambda_end)
-      : boxes_(boxes), pts_(pts), st_(st), dofs_(dofs), force_(boxes.size(), Vec<dim>::Zero()) {
+               const DofMap& dofs, double lambda_end, double dlambda, bool axisymmetric)
+      : boxes_(boxes),
+        pts_(pts),
+        st_(st),
+        dofs_(dofs),
+        axisymmetric_(axisymmetric),
+        force_(boxes.size(), Vec<dim>::Zero()) {
     for (const auto& b : boxes) {
       lo_.push_back(b.lo + lambda_end * b.total);
       hi_.push_back(b.hi + lambda_end * b.total);
+      moved_.push_back(dlambda * b.total);
     }
   }
 
   /// Finds the contacts at the iterate du and adds -sum_p N_a F_p to f_int (the boxes act
   /// on the body like an external force that depends on its motion).
   void add_force(const Vector& du, Vector& f_int) {
+    // The sliding directions of the last iterate, for sliding(): (re)sized per step's points
+    previous_.assign(pts_.size(), Vec<dim>::Zero());
+    for (const Contact& c : contacts_)
+      if (c.slides) previous_[c.point] = c.direction;
     contacts_.clear();
     for (auto& f : force_) f.setZero();
     for (int p = 0; p < pts_.size(); ++p) {
       const Stencil<dim>& s = st_[p];
-      Vec<dim> x = pts_.position[p];
+      Vec<dim> dx = Vec<dim>::Zero();
       for (int a = 0; a < s.count; ++a)
-        for (int i = 0; i < dim; ++i) x[i] += s.N[a] * du[dofs_.dof(s.node[a], i)];
+        for (int i = 0; i < dim; ++i) dx[i] += s.N[a] * du[dofs_.dof(s.node[a], i)];
+      const Vec<dim> x = pts_.position[p] + dx;
       const Vec<dim>& l = pts_.half_length[p];
       for (std::size_t b = 0; b < boxes_.size(); ++b) {
-        Contact c{p, static_cast<int>(b), 0, 0.0, std::numeric_limits<double>::infinity(), 0.0};
+        Contact c;
+        c.point = p;
+        c.box = static_cast<int>(b);
+        c.gap = std::numeric_limits<double>::infinity();
         bool inside = true;
         for (int e = 0; e < dim && inside; ++e) {
           const double up = hi_[b][e] - (x[e] - l[e]), down = (x[e] + l[e]) - lo_[b][e];  // push-outs along +e, -e
           inside = up >= 0.0 && down >= 0.0;  // touching counts: its stiffness holds a body resting on the box
-          if (up < c.gap) c = {p, static_cast<int>(b), e, 1.0, up, 0.0};
-          if (down < c.gap) c = {p, static_cast<int>(b), e, -1.0, down, 0.0};
+          if (up < c.gap) std::tie(c.axis, c.sign, c.gap) = std::make_tuple(e, 1.0, up);
+          if (down < c.gap) std::tie(c.axis, c.sign, c.gap) = std::make_tuple(e, -1.0, down);
         }
         if (!inside) continue;
-        double area = 1.0;
+        double area = axisymmetric_ ? pts_.position[p][0] : 1.0;  // (per radian)
         for (int e = 0; e < dim; ++e)
           if (e != c.axis) area *= 2.0 * l[e];
         c.k_area = boxes_[b].stiffness * area;
         const double F = c.sign * c.k_area * c.gap;  // on the point, along axis
         force_[b][c.axis] += F;
         for (int a = 0; a < s.count; ++a) f_int[dofs_.dof(s.node[a], c.axis)] -= s.N[a] * F;
+        if (frictional(b)) add_shear(c, area, dx, f_int);
         contacts_.push_back(c);
       }
     }
   }
 
-  /// K += k A N_a N_b on the contact axis, for the contacts of the last add_force.
+  /// K += k A N_a N_b on the contact axis, and the frictional terms, for the contacts of
+  /// the last add_force.
   void add_matrix(SparseMatrix& K) const {
     double* values = K.valuePtr();
     for (const Contact& c : contacts_) {
       const Stencil<dim>& s = st_[c.point];
-      for (int b = 0; b < s.count; ++b) {
-        const int col = dofs_.dof(s.node[b], c.axis);
-        for (int a = 0; a < s.count; ++a)
-          values[pattern_offset(K, dofs_.dof(s.node[a], c.axis), col)] += c.k_area * s.N[a] * s.N[b];
+      // d(-N_a T_i) / d du_(b j) = N_a N_b M(i, j): the contact's block, its nodes' products aside
+      Eigen::Matrix<double, dim, dim> M = Eigen::Matrix<double, dim, dim>::Zero();
+      M(c.axis, c.axis) = c.k_area;
+      if (frictional(c.box)) {
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) {
+            if (i == c.axis || j == c.axis) continue;
+            M(i, j) = c.k_area * (sliding(c) ? c.ratio * ((i == j) - c.direction[i] * c.direction[j]) : (i == j));
+          }
+        if (sliding(c))  // the limit grows with the pressure
+          for (int i = 0; i < dim; ++i)
+            if (i != c.axis) M(i, c.axis) = c.direction[i] * boxes_[c.box].friction * c.k_area * c.sign;
       }
+      for (int b = 0; b < s.count; ++b)
+        for (int j = 0; j < dim; ++j) {
+          const int col = dofs_.dof(s.node[b], j);
+          for (int i = 0; i < dim; ++i) {
+            if (M(i, j) == 0.0) continue;
+            for (int a = 0; a < s.count; ++a)
+              values[pattern_offset(K, dofs_.dof(s.node[a], i), col)] += M(i, j) * s.N[a] * s.N[b];
+          }
+        }
     }
+  }
+
+  /// At the converged iterate: each point's tangential force for the next step (zero for
+  /// the points out of a frictional contact).
+  void store_shear(std::vector<Vec<dim>>& shear) const {
+    for (auto& t : shear) t.setZero();
+    for (const Contact& c : contacts_)
+      if (frictional(c.box)) shear[c.point] = c.shear;
   }
 
   /// The force box b exerts on the body at the last add_force (per unit thickness in 2D);
@@ -91,15 +143,57 @@ class RigidContact {
 
  private:
   struct Contact {
-    int point, box, axis;
-    double sign, gap, k_area;
+    int point = 0, box = 0, axis = 0;
+    double sign = 0.0, gap = 0.0, k_area = 0.0;
+    Vec<dim> shear = Vec<dim>::Zero();      ///< T on the point (friction)
+    bool slides = false;                    ///< T at the limit
+    double ratio = 0.0;                     ///< limit / |T_trial| when sliding
+    Vec<dim> direction = Vec<dim>::Zero();  ///< T_trial / |T_trial| when sliding
   };
+
+  bool frictional(int b) const { return boxes_[b].friction > 0.0 || boxes_[b].adhesion > 0.0; }
+  /// Whether contact c takes the sliding tangent (else the stick one): it slides with a
+  /// limit above zero, the way it slid at the last iterate if it did. The sliding tangent
+  /// has no tangential stiffness in 2D, so a Newton step from a sliding iterate carries
+  /// the point as far as the body lets it, past a stick that holds it: the next iterate
+  /// slides back, and Newton swung from side to side for good (a block on a slowly
+  /// dragged plane). A contact that turns, or only touches (no pressure, no adhesion: the
+  /// limit is zero, as at a step's first iterate for every point resting on a box), takes
+  /// the stick tangent; Newton then finds the stick, or the slide the iterate after.
+  bool sliding(const Contact& c) const {
+    return c.slides && c.ratio > 0.0 && (previous_.empty() || previous_[c.point].dot(c.direction) >= 0.0);
+  }
+
+  /// The tangential force of contact c at the point's step displacement dx, into c, the
+  /// box's force and f_int.
+  void add_shear(Contact& c, double area, const Vec<dim>& dx, Vector& f_int) {
+    const RigidBox<dim>& box = boxes_[c.box];
+    Vec<dim> T = pts_.contact_shear[c.point];  // the last step's, in this contact's plane
+    T[c.axis] = 0.0;
+    for (int j = 0; j < dim; ++j)
+      if (j != c.axis) T[j] -= c.k_area * (dx[j] - moved_[c.box][j]);  // the stick spring against the slip
+    const double limit = box.adhesion * area + box.friction * c.k_area * c.gap, size = T.norm();
+    c.slides = size > limit;
+    if (c.slides) {
+      c.direction = T / size;
+      c.ratio = limit / size;
+      T *= c.ratio;
+    }
+    c.shear = T;
+    force_[c.box] += T;
+    const Stencil<dim>& s = st_[c.point];
+    for (int a = 0; a < s.count; ++a)
+      for (int j = 0; j < dim; ++j)
+        if (j != c.axis) f_int[dofs_.dof(s.node[a], j)] -= s.N[a] * T[j];
+  }
   const std::vector<RigidBox<dim>>& boxes_;
   const MaterialPoints<dim>& pts_;
   const PointStencils<dim>& st_;
   const DofMap& dofs_;
-  std::vector<Vec<dim>> lo_, hi_, force_;
+  const bool axisymmetric_;
+  std::vector<Vec<dim>> lo_, hi_, moved_, force_;
   std::vector<Contact> contacts_;
+  std::vector<Vec<dim>> previous_;  ///< per point: its sliding direction at the iterate before (zero: none)
 };
 
 }  // namespace gradmpm

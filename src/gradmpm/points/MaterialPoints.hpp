@@ -39,6 +39,9 @@ struct MaterialPoints {
   /// The pore pressure p_p (compression positive; mpm/Consolidation.hpp); zero in a
   /// drained run. The total stress is stress - p I.
   std::vector<double> pore_pressure;
+  /// The tangential force a frictional rigid box exerted on the point at the end of the
+  /// last step (mpm/RigidContact.hpp: the stick that carries over); zero out of contact.
+  std::vector<Vec<dim>> contact_shear;
 
   int size() const { return static_cast<int>(position.size()); }
 
@@ -93,6 +96,7 @@ struct MaterialPoints {
     velocity.push_back(Vec<dim>::Zero());
     acceleration.push_back(Vec<dim>::Zero());
     pore_pressure.push_back(0.0);
+    contact_shear.push_back(Vec<dim>::Zero());
   }
 
  private:
@@ -115,6 +119,7 @@ struct MaterialPoints {
     f("velocity", p.velocity...);
     f("acceleration", p.acceleration...);
     f("pore_pressure", p.pore_pressure...);
+    f("contact_shear", p.contact_shear...);
   }
 };
 
