@@ -14,7 +14,11 @@
 //     triangle, 4 per quadrangle and tetrahedron, 8 per hexahedron, inside their
 //     elements, their volumes adding up to the mesh's to 1e-12 (also on the slope
 //     example's gmsh mesh), their masses density times volume; with it points_per_cell
-//     and a distributed run are refused.
+//     and a distributed run are refused;
+//  G5 a polygon with holes keeps the points of the polygon outside every hole: a 4 x 4
+//     square less a 2 x 2 square and a 1 x 0.5 one, their sub-cells' volumes the area 16 - 4 -
+//     0.5 exactly (the edges run on sub-cell lines); a hole outside its polygon, holes
+//     that overlap, and holes without a polygon are refused, naming the key.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -221,4 +225,53 @@ TEST(Geometry, G4_ElementPlacementPutsPointsAtQuadraturePoints) {
         read_mpm_case<2>(bad);
       },
       InputError);
+}
+
+namespace {
+const char* kHoles = R"(
+[grid]
+origin = [0.0, 0.0]
+cell_size = 0.5
+cells = [8, 8]
+[materials.soil]
+model = "hencky"
+young = 1.0e3
+density = 1.0
+[[bodies]]
+material = "soil"
+polygon = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]
+holes = [[[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]], [[0.5, 3.25], [1.5, 3.25], [1.5, 3.75], [0.5, 3.75]]]
+points_per_cell = 4
+[load_steps]
+count = 1
+)";
+}  // namespace
+
+TEST(Geometry, G5_PolygonsWithHoles) {
+  CaseFile cf = CaseFile::parse(kHoles, "holes.toml");
+  const Model<2> m = read_mpm_case<2>(cf).model;
+  double v = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    v += m.points.volume[p];
+    const Vec<2>& x = m.points.position[p];
+    EXPECT_FALSE(x[0] > 1.0 && x[0] < 3.0 && x[1] > 1.0 && x[1] < 3.0) << "a point in the first hole";
+    EXPECT_FALSE(x[0] > 0.5 && x[0] < 1.5 && x[1] > 3.25 && x[1] < 3.75) << "a point in the second hole";
+  }
+  std::cout << "polygon with two holes: " << m.points.size() << " points, area " << v << " (16 - 4 - 0.5)\n";
+  EXPECT_NEAR(v, 16.0 - 4.0 - 0.5, 1e-12);
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"bodies[0].holes=[[[1.0,1.0],[5.0,1.0],[3.0,3.0]]]", "bodies[0].holes[0]: expected a hole inside the body's polygon"},
+      {"bodies[0].holes=[[[1.0,1.0],[3.0,1.0],[3.0,3.0]],[[2.5,1.5],[2.9,1.5],[2.9,2.0]]]",
+       "expected a hole apart from bodies[0].holes[0]"},
+      {"bodies[0].holes=[[[1.0,1.0],[3.0,1.0]]]", "bodies[0].holes[0]: expected at least 3 vertices"},
+  };
+  for (const auto& [set, message] : bad) {
+    CaseFile b = CaseFile::parse(kHoles, "holes.toml", {set});
+    try {
+      read_mpm_case<2>(b);
+      ADD_FAILURE() << set;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
 }

@@ -321,6 +321,8 @@ const std::vector<SectionSpec>& mpm_sections() {
            .doc = "the body's box (with `min`)"},
           {.name = "polygon", .type = K::Other, .type_text = "[[x, y], ...]", .default_text = "none",
            .doc = "2D only: a polygon (>= 3 vertices) instead of a box"},
+          {.name = "holes", .type = K::Other, .type_text = "[[[x, y], ...], ...]", .default_text = "none",
+           .doc = "with `polygon`: polygons cut out of it (each inside it, apart from the others): a tunnel, a culvert, a pile's bore"},
           {.name = "mesh", .type = K::String, .default_text = "none",
            .doc = "a gmsh mesh (MSH 4.1 ASCII; its path relative to the case file) instead of a box: its linear "
                   "elements of the case's dimension make the body (docs/geometry.md)"},

@@ -252,9 +252,35 @@ std::shared_ptr<const MeshBody<dim>> read_mesh_body(const CaseFile& cf, const st
   }
 }
 
+/// `holes` of a polygon body (k: "bodies[2]"): polygons of at least 3 vertices, each inside
+/// the body's polygon and outside the other holes (every vertex).
+std::vector<std::vector<std::vector<double>>> read_holes(const CaseFile& cf, const std::string& k,
+                                                        const std::vector<std::vector<double>>& poly) {
+  std::vector<std::vector<std::vector<double>>> holes;
+  const std::string key = k + ".holes";
+  if (!cf.has(key)) return holes;
+  cf.require(cf.list_size(key) > 0, key, "an array of polygons [[[x, y], ...], ...]");
+  for (std::size_t h = 0; h < cf.list_size(key); ++h) {
+    const std::string hk = fmt::format("{}[{}]", key, h);
+    holes.push_back(cf.vector_list(hk, 2));
+    cf.require(holes.back().size() >= 3, hk, "at least 3 vertices");
+    for (const auto& v : holes.back())
+      cf.require(inside_polygon(poly, v[0], v[1]), hk,
+                 fmt::format("a hole inside the body's polygon (its vertex ({:g}, {:g}) is not)", v[0], v[1]));
+  }
+  for (std::size_t a = 0; a < holes.size(); ++a)
+    for (std::size_t b = 0; b < holes.size(); ++b)
+      for (const auto& v : holes[a])
+        cf.require(a == b || !inside_polygon(holes[b], v[0], v[1]), fmt::format("{}[{}]", key, a),
+                   fmt::format("a hole apart from {}[{}] (its vertex ({:g}, {:g}) is inside it)", key, b, v[0], v[1]));
+  return holes;
+}
+
 template <int dim>
 BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const GridRead<dim>& g) {
   BodyShape<dim> s;
+  cf.require(!cf.has(k + ".holes") || cf.has(k + ".polygon"), k + ".holes",
+             "no such key without a polygon (`polygon = [[x, y], ...]`)");
   for (const char* key : {".physical", ".placement"})
     cf.require(!cf.has(k + key) || cf.has(k + ".mesh"), k + key, "no such key without a mesh (`mesh = \"FILE.msh\"`)");
   const bool elements = cf.has(k + ".mesh") && read_string(cf, k, mpm_section("bodies").key("placement")) == "elements";
@@ -289,7 +315,14 @@ BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const G
         s.box.lo[d] = std::min(s.box.lo[d], v[d]);
         s.box.hi[d] = std::max(s.box.hi[d], v[d]);
       }
-    s.inside = [poly](const Vec<dim>& x) { return inside_polygon(poly, x[0], x[dim > 1 ? 1 : 0]); };
+    const auto holes = read_holes(cf, k, poly);
+    s.inside = [poly, holes](const Vec<dim>& x) {
+      const double px = x[0], py = x[dim > 1 ? 1 : 0];
+      if (!inside_polygon(poly, px, py)) return false;
+      for (const auto& h : holes)
+        if (inside_polygon(h, px, py)) return false;
+      return true;
+    };
   } else {
     s.key = k + ".max";
     s.box = read_box<dim>(cf, k);

@@ -55,6 +55,11 @@ class CaseFile {
                           const std::string& whose) const;
   /// Number of entries of an array of tables (0 when absent).
   std::size_t array_size(const std::string& name) const;
+  /// Number of entries of the array at `key` ("bodies[0].holes"; 0 when absent or not an array).
+  std::size_t list_size(const std::string& key) const {
+    const toml::node* n = find(key);
+    return n && n->is_array() ? n->as_array()->size() : 0;
+  }
   /// Names of the sub-tables of a table of sections, in file order.
   std::vector<std::string> subsections(const std::string& name) const;
   bool has(const std::string& key) const { return find(key) != nullptr; }
