@@ -19,6 +19,9 @@
 //              consolidating under its weight in time steps of 0.05, drained at its top:
 //              what the pore pressure costs a Newton iteration (n x n cells: the same
 //              displacement dof as column_2d, and a pressure per node)
+//   column_2d_axisymmetric the 2D column as an axisymmetric one ([mpm] axisymmetric: a
+//              cylinder of radius 10 in a smooth rigid pipe, on the axis x = 0): what the
+//              hoop terms cost a Newton iteration against column_2d's at the same dof
 //   column_3d  the same in 3D; n x n x n cells
 //   footing_2d examples/footing_2d.toml refined by a factor (uGIMP)
 //   tresca_2d  examples/footing_tresca_2d.toml (von Mises, plastic under the footing)
@@ -126,6 +129,14 @@ gravity = {}
     constraint(min, {20.0, 20.0, 20.0}, all_axes[d]);
   }
   return t + "[load_steps]\ncount = 10\n[output]\nvtk_every = 0\n";
+}
+
+/// The column about the axis x = 0 (its x = 0 rollers on the axis, its x = 10 ones a
+/// smooth pipe).
+std::string axisymmetric_column(int n) {
+  std::string t = column(2, n);
+  const std::string steps = "[load_steps]";
+  return t.insert(t.find(steps), "[mpm]\naxisymmetric = true\n");
 }
 
 /// The column with the points' inertia: time steps of 0.05 (the column's first period is
@@ -272,6 +283,7 @@ int main(int argc, char** argv) {
   std::vector<int> n2 = quick ? std::vector<int>{20, 64, 224} : std::vector<int>{20, 64, 224, 448, 708};
   std::vector<int> dynamic2 = quick ? std::vector<int>{20, 224} : std::vector<int>{20, 224};
   std::vector<int> pore2 = quick ? std::vector<int>{20, 224} : std::vector<int>{20, 224};
+  std::vector<int> axi2 = quick ? std::vector<int>{20, 224} : std::vector<int>{20, 224};
   std::vector<int> n3 = quick ? std::vector<int>{6, 14} : std::vector<int>{6, 14, 24};
   std::vector<int> refine = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 8, 16, 32};
   std::vector<int> plastic = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 12};
@@ -281,10 +293,11 @@ int main(int argc, char** argv) {
     const std::string name = only.substr(0, colon);
     const int size = colon == std::string::npos ? 0 : std::atoi(only.c_str() + colon + 1);
     if (size <= 0 || (name != "column_2d" && name != "column_2d_dynamic" && name != "column_2d_consolidation" &&
-                      name != "column_3d" &&
+                      name != "column_2d_axisymmetric" && name != "column_3d" &&
                       name != "footing_2d" && name != "tresca_2d" && name != "biaxial_2d")) {
       fmt::print(stderr,
-                 "bench_mpm: --only expects column_2d:N, column_2d_dynamic:N, column_2d_consolidation:N, column_3d:N, "
+                 "bench_mpm: --only expects column_2d:N, column_2d_dynamic:N, column_2d_consolidation:N, "
+                 "column_2d_axisymmetric:N, column_3d:N, "
                  "footing_2d:R, tresca_2d:R "
                  "or biaxial_2d:R with N, R > 0, not '{}'\n",
                  only);
@@ -292,6 +305,7 @@ int main(int argc, char** argv) {
     }
     dynamic2 = name == "column_2d_dynamic" ? std::vector<int>{size} : std::vector<int>{};
     pore2 = name == "column_2d_consolidation" ? std::vector<int>{size} : std::vector<int>{};
+    axi2 = name == "column_2d_axisymmetric" ? std::vector<int>{size} : std::vector<int>{};
     n2 = name == "column_2d" ? std::vector<int>{size} : std::vector<int>{};
     n3 = name == "column_3d" ? std::vector<int>{size} : std::vector<int>{};
     refine = name == "footing_2d" ? std::vector<int>{size} : std::vector<int>{};
@@ -309,6 +323,9 @@ int main(int argc, char** argv) {
     bench<2>("column_2d_consolidation",
              CaseFile::parse(consolidating_column(n), "column_2d_consolidation", {solver_key, options_key}), csv,
              threads);
+  for (int n : axi2)
+    bench<2>("column_2d_axisymmetric",
+             CaseFile::parse(axisymmetric_column(n), "column_2d_axisymmetric", {solver_key, options_key}), csv, threads);
   for (int n : n3)
     bench<3>("column_3d", CaseFile::parse(column(3, n), "column_3d", {solver_key, options_key}), csv, threads);
   const std::string footing = std::string(GRADMPM_SOURCE_DIR) + "/examples/footing_2d.toml";

@@ -611,21 +611,26 @@ class LoadStep final : public ParametrisedProblem {
   /// One point's axisymmetric tangent: K_(a i)(b k) = w grad eta : A : grad du over the
   /// 3 x 3 gradients of the nodes' unit displacements, in-plane G (i, j < 2) and the hoop
   /// entry (2, 2) = hoop_a of a radial one (as the 3D tangent of a field without torsion).
+  /// Each gradient has 2 or 3 entries: A times it is 9 x 3 products, not 81.
   static void add_hoop_tangent(const Stencil<dim>& s, const std::array<Vec<dim>, Stencil<dim>::capacity>& G,
                                const std::array<double, Stencil<dim>::capacity>& hoop, const Mat9& A, double w,
                                bool symmetric, typename Assembler<dim>::LocalMatrix& Ke) {
-    // B(a, i): the 9 entries of grad of node a's unit displacement in component i.
-    const auto B = [&](int a, int i) {
-      Eigen::Matrix<double, 9, 1> b = Eigen::Matrix<double, 9, 1>::Zero();
-      for (int j = 0; j < dim; ++j) b[3 * i + j] = G[a][j];
-      if (i == 0) b[8] = hoop[a];
-      return b;
-    };
     for (int b = 0; b < s.count; ++b)
       for (int k = 0; k < dim; ++k) {
-        const Eigen::Matrix<double, 9, 1> AB = w * (A * B(b, k));
+        double AB[9];  // w A : grad(du of node b, component k)
+        for (int r = 0; r < 9; ++r) {
+          double v = 0.0;
+          for (int l = 0; l < dim; ++l) v += A(r, 3 * k + l) * G[b][l];
+          if (k == 0) v += A(r, 8) * hoop[b];
+          AB[r] = w * v;
+        }
         for (int a = symmetric ? b : 0; a < s.count; ++a)
-          for (int i = 0; i < dim; ++i) Ke(a * dim + i, b * dim + k) += B(a, i).dot(AB);
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j) v += G[a][j] * AB[3 * i + j];
+            if (i == 0) v += hoop[a] * AB[8];
+            Ke(a * dim + i, b * dim + k) += v;
+          }
       }
   }
 

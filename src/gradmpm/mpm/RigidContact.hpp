@@ -63,10 +63,13 @@ class RigidContact {
     for (auto& f : force_) f.setZero();
     for (int p = 0; p < pts_.size(); ++p) {
       const Stencil<dim>& s = st_[p];
-      Vec<dim> dx = Vec<dim>::Zero();
+      Vec<dim> x = pts_.position[p], dx = Vec<dim>::Zero();  // (x summed onto x_n, as ever: the same bits)
       for (int a = 0; a < s.count; ++a)
-        for (int i = 0; i < dim; ++i) dx[i] += s.N[a] * du[dofs_.dof(s.node[a], i)];
-      const Vec<dim> x = pts_.position[p] + dx;
+        for (int i = 0; i < dim; ++i) {
+          const double u = s.N[a] * du[dofs_.dof(s.node[a], i)];
+          x[i] += u;
+          dx[i] += u;
+        }
       const Vec<dim>& l = pts_.half_length[p];
       for (std::size_t b = 0; b < boxes_.size(); ++b) {
         Contact c;
