@@ -64,6 +64,7 @@ TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
     m.points.velocity[p] = Vec<2>(2 * p, p);
     m.points.acceleration[p] = Vec<2>(-p, 3 * p);
     m.points.pore_pressure[p] = 7.0 * p;
+    m.points.contact_shear[p] = Vec<2>(3 * p, -2 * p);
   }
   const std::vector<int> mine = {1, 4, 5, 10};
   const MaterialPoints<2> expected = m.points.subset(mine);
@@ -79,7 +80,7 @@ TEST(PointMigration, KeptPointsOfAModelAreItsSubsetWithTheirIds) {
         if (std::string(name) == other) EXPECT_TRUE(a == b) << name;
     });
   });
-  EXPECT_EQ(arrays, 16);
+  EXPECT_EQ(arrays, 17);
   EXPECT_EQ(m.points.state, expected.state);
 }
 
