@@ -2,18 +2,21 @@
 // docs/axisymmetry.md):
 //  - the assembled tangent, hoop terms included, is the derivative of the internal force
 //    (central differences, 1e-6 of its largest entry) for Hencky, von Mises past yield and
-//    Mohr-Coulomb past yield;
+//    Mohr-Coulomb past yield, with and without F-bar;
 //  - a thick-walled cylinder (a = 1, b = 2, plane strain along z) with its bore pushed out
 //    by u_a: the bore's pressure (reaction per radian / a H) is Lame's within 0.5 %, and
 //    the cells' mean sigma_rr and sigma_thetatheta are Lame's within 0.5 % of it, with the
-//    small-strain linear-elastic law and with Hencky;
+//    small-strain linear-elastic law, with Hencky, and with Hencky and F-bar;
 //  - the same cylinder of von Mises steel reaches Hill's (1950) limit pressure
-//    p = (2 / sqrt 3) sigma_y ln(b / a) within 2 %;
+//    p = (2 / sqrt 3) sigma_y ln(b / a) within 2 %, with and without F-bar (its volume
+//    change with the hoop stretch);
 //  - the points' volumes and masses are per radian: r_p times their area;
 //  - a solid cylinder (r <= 1, on the axis) resting on a rigid box (uGIMP): the box carries
 //    its weight per radian, rho g H R^2 / 2, to 1e-12, and (nu = 0) every bottom point
 //    sinks alike: the contact's area is per radian too (r_p times the domain's face).
 #include <gtest/gtest.h>
+
+#include <fmt/format.h>
 
 #include <cmath>
 #include <fstream>
@@ -89,10 +92,11 @@ class Cylinder : public ScratchDirTest {
  protected:
   /// Runs the cylinder; returns reactions.csv's and points_final.csv's columns.
   std::pair<std::map<std::string, std::vector<double>>, std::map<std::string, std::vector<double>>> run(
-      const std::string& material, double u_a, int steps) {
+      const std::string& material, double u_a, int steps, const std::string& options = "") {
     const fs::path file = dir / "cylinder.toml", out = dir / "out";
     std::ofstream(file) << cylinder(material, u_a, steps);
-    const CliResult r = run_gradmpm("run " + file.string() + " -q --out " + out.string());
+    fs::remove_all(out);
+    const CliResult r = run_gradmpm("run " + file.string() + " -q --out " + out.string() + " " + options);
     EXPECT_EQ(r.code, 0) << r.err;
     return {csv_columns(out / "reactions.csv"), csv_columns(out / "points_final.csv")};
   }
@@ -105,12 +109,16 @@ TEST(Axisymmetry, TangentIsTheDerivativeOfTheInternalForce) {
         "model = \"von-mises\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\nyield_stress = 1.0",
         "model = \"mohr-coulomb\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\ncohesion = 0.5\nfriction_angle = "
         "30.0\ndilation_angle = 10.0"}) {
-    CaseFile cf = CaseFile::parse(cylinder(material, 0.01, 1), "cylinder.toml");
-    const Model<2> m = read_mpm_case<2>(cf).model;
-    detail::LoadStep<2> step(m, 1.0, 1.0);
-    const TangentCheck check = assembled_tangent_check(step, 2e-3, 11, 1e-7);
-    std::cout << material.substr(0, material.find('\n')) << ": |K - K_fd| / |K| = " << check.error << "\n";
-    EXPECT_LT(check.error, 1e-6) << material;
+    for (const bool fbar : {false, true}) {
+      CaseFile cf = CaseFile::parse(cylinder(material, 0.01, 1), "cylinder.toml",
+                                    {fmt::format("mpm.fbar={}", fbar ? "true" : "false")});
+      const Model<2> m = read_mpm_case<2>(cf).model;
+      detail::LoadStep<2> step(m, 1.0, 1.0);
+      const TangentCheck check = assembled_tangent_check(step, 2e-3, 11, 1e-7);
+      std::cout << material.substr(0, material.find('\n')) << (fbar ? " with F-bar" : "")
+                << ": |K - K_fd| / |K| = " << check.error << "\n";
+      EXPECT_LT(check.error, 1e-6) << material << " F-bar " << fbar;
+    }
   }
 }
 
@@ -132,8 +140,11 @@ TEST_F(Cylinder, ElasticBoreMeetsLame) {
   const double u_a = 1e-4;
   const Lame lame(1e3, 0.3, u_a);
   const double p = -lame.srr(kA);
-  for (const std::string model : {"linear-elastic", "hencky"}) {
-    const auto [reactions, points] = run("model = \"" + model + "\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0", u_a, 1);
+  for (const std::string model : {"linear-elastic", "hencky", "hencky with F-bar"}) {
+    const bool fbar = model == "hencky with F-bar";
+    const auto [reactions, points] =
+        run("model = \"" + model.substr(0, model.find(' ')) + "\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0", u_a,
+            1, fbar ? "--set mpm.fbar=true" : "");
     const double bore = reactions.at("rx").back() / (kA * kHeight);
     // The cells' volume-weighted means against Lame at the cells' centres.
     std::map<int, std::array<double, 3>> cells;
@@ -160,14 +171,17 @@ TEST_F(Cylinder, ElasticBoreMeetsLame) {
 }
 
 TEST_F(Cylinder, VonMisesBoreReachesHillsLimitPressure) {
-  const auto [reactions, points] =
-      run("model = \"von-mises\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\nyield_stress = 1.0", 0.02, 20);
-  const double hill = 2.0 / std::sqrt(3.0) * std::log(kB / kA);
-  double peak = 0.0;
-  for (const double r : reactions.at("rx")) peak = std::max(peak, r / (kA * kHeight));
-  std::cout << "von Mises cylinder: peak bore pressure " << peak << ", Hill's " << hill << " ("
-            << (peak / hill - 1) * 100 << " %)\n";
-  EXPECT_NEAR(peak, hill, 0.02 * hill);
+  for (const std::string options : {"", "--set mpm.fbar=true"}) {
+    const auto [reactions, points] =
+        run("model = \"von-mises\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\nyield_stress = 1.0", 0.02, 20,
+            options);
+    const double hill = 2.0 / std::sqrt(3.0) * std::log(kB / kA);
+    double peak = 0.0;
+    for (const double r : reactions.at("rx")) peak = std::max(peak, r / (kA * kHeight));
+    std::cout << "von Mises cylinder" << (options.empty() ? "" : " with F-bar") << ": peak bore pressure " << peak
+              << ", Hill's " << hill << " (" << (peak / hill - 1) * 100 << " %)\n";
+    EXPECT_NEAR(peak, hill, 0.02 * hill) << options;
+  }
 }
 
 TEST_F(Cylinder, SolidCylinderRestsOnARigidBoxPerRadian) {

@@ -4,7 +4,8 @@
 // volumetric locking of isochoric plastic flow: the points of one background cell share
 // one volume change per load step,
 //   dJbar_c = sum_{q in c} w_q dJ_q,   w_q = v_q,n / sum_{q in c} v_q,n,
-//   dFbar_p = (dJbar_c / dJ_p)^(1/dim) dF_p   (the in-plane block in plane strain),
+//   dFbar_p = (dJbar_c / dJ_p)^(1/dim) dF_p   (the in-plane block in plane strain; the
+//             whole of it, 1/3, when axisymmetric: the hoop stretch changes the volume),
 // the material is updated with dFbar, sigma = tau(Fbar) / Jbar, and f_int integrates sigma
 // over the actual current volumes. Linearising (de Souza Neto et al. 2008, sec. 15.4, with
 // the cell average in place of the centroid) gives the tangent
@@ -13,6 +14,7 @@
 //   W_p = (v_p,n / Jbar_p,n) dJ_p / dJbar_c, G = grad_n N dF^-1,
 // non-symmetric (solved as such) and coupling all nodes of a cell's points.
 #include <algorithm>
+#include <array>
 #include <map>
 #include <vector>
 
@@ -78,10 +80,13 @@ class FBarCells {
   /// The cell coupling of the tangent for `cells`: K += U_c V_c^T per cell,
   /// U_c(a i) = sum_p W_p G_pa,j Q_p,ij, V_c(b k) = sum_q beta_q G_qb,k over the cell's
   /// points, beta_q = w_q dJ_q / dJbar; G, W and Q of the cells' points (grads, weights, Q).
-  template <class Gradients>
+  /// Axisymmetric (`hoop`: each point's N_a / r): the hoop entries too, U(a r) +=
+  /// W hoop_a Q_thetatheta and V(b r) += beta hoop_b.
+  template <class Gradients, class Hoop = std::vector<std::array<double, 1>>>
   void add_coupling(SparseMatrix& K, const std::vector<int>& cells, const PointStencils<dim>& st, const DofMap& dofs,
                     const Gradients& grads, const std::vector<double>& weights, const std::vector<Mat3>& Q,
-                    const std::vector<double>& dJ, const std::vector<double>& dJbar) const {
+                    const std::vector<double>& dJ, const std::vector<double>& dJbar,
+                    const Hoop* hoop = nullptr) const {
     double* values = K.valuePtr();
     for (const int c : cells) {
       const auto& nodes = nodes_[c];
@@ -97,6 +102,10 @@ class FBarCells {
             for (int j = 0; j < dim; ++j) u += grads[q][a][j] * Q[q](i, j);
             U[at * dim + i] += weights[q] * u;
             V[at * dim + i] += beta * grads[q][a][i];
+          }
+          if (hoop) {
+            U[at * dim] += weights[q] * (*hoop)[q][a] * Q[q](2, 2);
+            V[at * dim] += beta * (*hoop)[q][a];
           }
         }
       }
@@ -123,16 +132,17 @@ class FBarCells {
 };
 
 /// A -> A - Q (x) I: the local part of the F-bar tangent at Kirchhoff stress tau; Q is
-/// kept for the cell coupling (LoadStep::add_fbar_coupling).
+/// kept for the cell coupling (LoadStep::add_fbar_coupling). `n`: the components the
+/// volume change has, dim (plane strain) or 3 (axisymmetric: with the hoop one).
 template <int dim>
-void fbar_local_tangent(const Mat3& tau, Eigen::Matrix<double, 9, 9>& A, Mat3& Q) {
+void fbar_local_tangent(const Mat3& tau, Eigen::Matrix<double, 9, 9>& A, Mat3& Q, int n = dim) {
   Q.setZero();
-  for (int i = 0; i < dim; ++i)
-    for (int j = 0; j < dim; ++j) {
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
       double trace = 0.0;
-      for (int m = 0; m < dim; ++m) trace += A(3 * i + j, 3 * m + m);
-      Q(i, j) = trace / dim - (1.0 - 1.0 / dim) * tau(i, j);
-      for (int k = 0; k < dim; ++k) A(3 * i + j, 3 * k + k) -= Q(i, j);
+      for (int m = 0; m < n; ++m) trace += A(3 * i + j, 3 * m + m);
+      Q(i, j) = trace / n - (1.0 - 1.0 / n) * tau(i, j);
+      for (int k = 0; k < n; ++k) A(3 * i + j, 3 * k + k) -= Q(i, j);
     }
 }
 

@@ -181,7 +181,9 @@ class LoadStep final : public ParametrisedProblem {
   /// The increment point p's material sees: dF, or with F-bar (dJbar / dJ)^(1/dim) dF in
   /// the plane (dJbar and dJ of the last internal_force() iterate).
   Mat3 material_increment(int p, Mat3 dF) const {
-    if (fbar_) dF.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
+    if (!fbar_) return dF;
+    if (model_.axisymmetric) return dF * std::cbrt(fbar_dJbar_[p] / fbar_dJ_[p]);  // (the hoop stretch too)
+    dF.template topLeftCorner<dim, dim>() *= std::pow(fbar_dJbar_[p] / fbar_dJ_[p], 1.0 / dim);
     return dF;
   }
   /// The state block of the last internal_force() iterate.
@@ -319,7 +321,7 @@ class LoadStep final : public ParametrisedProblem {
           Mat9 A;
           // (axisymmetric: the hoop entries, index 2, too)
           model_.materials[model_.points.material[p]]->tangent(response_[p], model_.axisymmetric ? 3 : dim, A);
-          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[p]);
+          if (fbar_) fbar_local_tangent<dim>(response_[p].stress, A, fbar_q_[p], model_.axisymmetric ? 3 : dim);
           const double w = weights_[p];
           if (model_.axisymmetric) return add_hoop_tangent(s, G, hoop_[p], A, w, symmetric, Ke);
           for (int b = 0; b < s.count; ++b) {
@@ -341,7 +343,9 @@ class LoadStep final : public ParametrisedProblem {
           }
         },
         symmetric);
-    if (fbar_) fbar_->add_coupling(K, all_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_);
+    if (fbar_)
+      fbar_->add_coupling(K, all_cells_, st_, dofs_, grads_, weights_, fbar_q_, fbar_dJ_, fbar_dJbar_,
+                          model_.axisymmetric ? &hoop_ : nullptr);
     if (ghost_) ghost_->add_matrix(dofs_, K);  // this rank's faces
     if (contact_) contact_->add_matrix(K);
     for (const NodeTie& t : active_ties_) {
@@ -557,6 +561,7 @@ class LoadStep final : public ParametrisedProblem {
     f_int = Vector::Zero(dofs_.num_dofs());
     grads_.resize(np);
     weights_.resize(np);
+    if (model_.axisymmetric) hoop_.resize(np);
     auto [inverted, det] = volume_changes(du);
     if (split_) lowest_over_ranks(inverted, det);  // every rank fails, or none
     if (inverted < kNone) throw StepFailure{fmt::format("point {} inverted (det dF = {:.3g})", inverted, det)};
@@ -574,6 +579,8 @@ class LoadStep final : public ParametrisedProblem {
           G[a][l] = v;
         }
       weights_[p] = pts.volume[p] / pts.fbar_jacobian[p] * fbar_dJ_[p] / fbar_dJbar_[p];
+      if (model_.axisymmetric)  // the virtual hoop strain at r_n+1, as without F-bar
+        for (int a = 0; a < s.count; ++a) hoop_[p][a] = s.N[a] / (pts.position[p][0] * fbar_dF_[p](2, 2));
     }
     scatter_internal_force(du, f_int);
   }
@@ -587,7 +594,7 @@ class LoadStep final : public ParametrisedProblem {
     int inverted = kNone;
     double det = 0.0;
     for (int p = 0; p < np; ++p) {
-      fbar_dF_[p] = Mat3::Identity() + increment_gradient(st_[p], dofs_, du);
+      fbar_dF_[p] = Mat3::Identity() + point_increment(p, du);
       fbar_dJ_[p] = fbar_dF_[p].determinant();
       if (!(fbar_dJ_[p] > 0.0) && id(p) < inverted) {
         inverted = id(p);
