@@ -18,7 +18,12 @@
 //  G5 a polygon with holes keeps the points of the polygon outside every hole: a 4 x 4
 //     square less a 2 x 2 square and a 1 x 0.5 one, their sub-cells' volumes the area 16 - 4 -
 //     0.5 exactly (the edges run on sub-cell lines); a hole outside its polygon, holes
-//     that overlap, and holes without a polygon are refused, naming the key.
+//     that overlap, and holes without a polygon are refused, naming the key;
+//  G6 a 3D body bounded by an STL surface (ASCII or binary) keeps the sub-cell centres
+//     inside it: a unit cube's 12 triangles give its 512 points and volume 1 exactly (rays
+//     through the faces' diagonals count once), an octahedron's points converge to its
+//     volume 4/3 as the cells shrink; an open surface, a flipped triangle, an STL surface
+//     in 2D and one beside min/max are refused, naming the file or the key.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -34,6 +39,7 @@
 #include "gradmpm/core/Errors.hpp"
 #include "gradmpm/geometry/GmshMesh.hpp"
 #include "gradmpm/geometry/MeshBody.hpp"
+#include "gradmpm/geometry/StlBody.hpp"
 
 using namespace gradmpm;
 namespace fs = std::filesystem;
@@ -273,5 +279,165 @@ TEST(Geometry, G5_PolygonsWithHoles) {
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
     }
+  }
+}
+
+namespace {
+using Tri = std::array<Eigen::Vector3d, 3>;
+
+/// The unit cube's 12 triangles, outward.
+std::vector<Tri> unit_cube() {
+  const auto v = [](int i) { return Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  std::vector<Tri> out;
+  for (const auto& f : faces) {
+    out.push_back({v(f[0]), v(f[1]), v(f[2])});
+    out.push_back({v(f[0]), v(f[2]), v(f[3])});
+  }
+  return out;
+}
+
+/// An octahedron of radius 1 about c, outward.
+std::vector<Tri> octahedron(const Eigen::Vector3d& c) {
+  std::vector<Tri> out;
+  for (int sx : {-1, 1})
+    for (int sy : {-1, 1})
+      for (int sz : {-1, 1}) {
+        Tri t = {c + Eigen::Vector3d(sx, 0, 0), c + Eigen::Vector3d(0, sy, 0), c + Eigen::Vector3d(0, 0, sz)};
+        if (sx * sy * sz < 0) std::swap(t[1], t[2]);
+        out.push_back(t);
+      }
+  return out;
+}
+
+void write_ascii_stl(const fs::path& file, const std::vector<Tri>& tris) {
+  std::ofstream out(file);
+  out << "solid test\n";
+  for (const Tri& t : tris) {
+    out << "  facet normal 0 0 0\n    outer loop\n";
+    for (const auto& p : t) out << fmt::format("      vertex {} {} {}\n", p[0], p[1], p[2]);
+    out << "    endloop\n  endfacet\n";
+  }
+  out << "endsolid test\n";
+}
+
+void write_binary_stl(const fs::path& file, const std::vector<Tri>& tris) {
+  std::ofstream out(file, std::ios::binary);
+  const std::string header(80, ' ');
+  out.write(header.data(), 80);
+  const std::uint32_t n = static_cast<std::uint32_t>(tris.size());
+  out.write(reinterpret_cast<const char*>(&n), 4);
+  for (const Tri& t : tris) {
+    float v[12] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) v[3 + 3 * k + d] = static_cast<float>(t[k][d]);
+    out.write(reinterpret_cast<const char*>(v), 48);
+    const std::uint16_t attribute = 0;
+    out.write(reinterpret_cast<const char*>(&attribute), 2);
+  }
+}
+
+std::string stl_case(const std::string& stl, double h, int cells, double origin) {
+  return fmt::format(R"(
+[grid]
+origin = [{0}, {0}, {0}]
+cell_size = {1}
+cells = [{2}, {2}, {2}]
+[materials.soil]
+model = "hencky"
+young = 1.0e3
+density = 1.0
+[[bodies]]
+material = "soil"
+stl = "{3}"
+[load_steps]
+count = 1
+)",
+                     origin, h, cells, stl);
+}
+
+class StlBodies : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/gradmpm-stl-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir = tmpl;
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  double points_volume(const std::string& text, int* count = nullptr) {
+    CaseFile cf = CaseFile::parse(text, (dir / "case.toml").string());
+    const Model<3> m = read_mpm_case<3>(cf).model;
+    double v = 0.0;
+    for (int p = 0; p < m.points.size(); ++p) v += m.points.volume[p];
+    if (count) *count = m.points.size();
+    return v;
+  }
+  fs::path dir;
+};
+}  // namespace
+
+TEST_F(StlBodies, G6_ClosedSurfacesBoundTheirBodies) {
+  write_ascii_stl(dir / "cube.stl", unit_cube());
+  const StlBody cube(dir / "cube.stl");
+  EXPECT_EQ(cube.triangles(), 12);
+  EXPECT_NEAR(cube.volume(), 1.0, 1e-15);
+  EXPECT_TRUE(cube.contains(Eigen::Vector3d(0.25, 0.25, 0.25)));  // on the x faces' diagonals' line
+  EXPECT_TRUE(cube.contains(Eigen::Vector3d(0.5, 0.75, 0.75)));
+  EXPECT_FALSE(cube.contains(Eigen::Vector3d(-0.25, 0.25, 0.25)));
+  EXPECT_FALSE(cube.contains(Eigen::Vector3d(1.25, 0.5, 0.5)));
+  int count = 0;
+  const double v = points_volume(stl_case("cube.stl", 0.25, 8, -0.5), &count);
+  std::cout << "unit cube (ASCII STL): " << count << " points, volume " << v << "\n";
+  EXPECT_EQ(count, 512);
+  EXPECT_NEAR(v, 1.0, 1e-12);
+
+  // An octahedron (binary), off the grid's symmetry: the points' volume converges to 4/3.
+  write_binary_stl(dir / "octahedron.stl", octahedron(Eigen::Vector3d(0.013, 0.021, 0.017)));
+  EXPECT_NEAR(StlBody(dir / "octahedron.stl").volume(), 4.0 / 3.0, 1e-6);  // (float coordinates)
+  double previous = 1.0;
+  for (const int n : {10, 20, 40}) {
+    const double h = 2.4 / n;
+    const double error = std::abs(points_volume(stl_case("octahedron.stl", h, n, -1.2)) / (4.0 / 3.0) - 1.0);
+    std::cout << "octahedron (binary STL), h = " << h << ": volume error " << error << "\n";
+    EXPECT_LT(error, previous);
+    previous = error;
+  }
+  EXPECT_LT(previous, 0.01);
+}
+
+TEST_F(StlBodies, G6_BadSurfacesAreRefusedNamingFileAndFault) {
+  std::vector<Tri> open = unit_cube();
+  open.pop_back();
+  write_ascii_stl(dir / "open.stl", open);
+  std::vector<Tri> flipped = unit_cube();
+  std::swap(flipped[3][1], flipped[3][2]);
+  write_ascii_stl(dir / "flipped.stl", flipped);
+  write_ascii_stl(dir / "cube.stl", unit_cube());
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {stl_case("open.stl", 0.25, 8, -0.5), "open.stl: not a closed surface: the edge"},
+      {stl_case("flipped.stl", 0.25, 8, -0.5), "flipped.stl: the triangles are not oriented alike"},
+      {stl_case("missing.stl", 0.25, 8, -0.5), "missing.stl: cannot open the STL file"},
+      {stl_case("cube.stl", 0.25, 8, -0.5) + "\n[[bodies]]\nmaterial = \"soil\"\nstl = \"cube.stl\"\nmin = [0, 0, 0]\n",
+       "bodies[1].stl: expected either an STL surface, a mesh, a polygon or min/max"},
+  };
+  for (const auto& [text, message] : cases) {
+    CaseFile cf = CaseFile::parse(text, (dir / "case.toml").string());
+    try {
+      read_mpm_case<3>(cf);
+      ADD_FAILURE() << message;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  CaseFile plane = CaseFile::parse(
+      "[grid]\norigin = [0.0, 0.0]\ncell_size = 1.0\ncells = [4, 4]\n[materials.soil]\nmodel = \"hencky\"\nyoung = "
+      "1.0e3\ndensity = 1.0\n[[bodies]]\nmaterial = \"soil\"\nstl = \"cube.stl\"\n[load_steps]\ncount = 1\n",
+      (dir / "plane.toml").string());
+  try {
+    read_mpm_case<2>(plane);
+    ADD_FAILURE() << "an STL surface in 2D";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies[0].stl: expected no STL surface in a 1D or 2D case"), std::string::npos)
+        << e.what();
   }
 }

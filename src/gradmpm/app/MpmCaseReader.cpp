@@ -18,6 +18,7 @@
 #include "gradmpm/core/Ranks.hpp"
 #include "gradmpm/geometry/GmshMesh.hpp"
 #include "gradmpm/geometry/MeshBody.hpp"
+#include "gradmpm/geometry/StlBody.hpp"
 #include "gradmpm/materials/MaterialRegistry.hpp"
 #include "gradmpm/mpm/InitialStress.hpp"
 #include "gradmpm/mpm/RankPoints.hpp"
@@ -289,7 +290,24 @@ BodyShape<dim> read_body_shape(const CaseFile& cf, const std::string& k, const G
                "no such key with placement = \"elements\" (the points are the elements' quadrature points)");
     cf.require(!ranks::distributed(), k + ".placement", "\"grid\" in a run on more than one rank");
   }
-  if (cf.has(k + ".mesh")) {
+  if (cf.has(k + ".stl")) {
+    s.key = k + ".stl";
+    cf.require(!cf.has(k + ".min") && !cf.has(k + ".max") && !cf.has(k + ".polygon") && !cf.has(k + ".mesh"), s.key,
+               "either an STL surface, a mesh, a polygon or min/max, not two of them");
+    cf.require(dim == 3, s.key, "no STL surface in a 1D or 2D case (an STL surface bounds a 3D body)");
+    if constexpr (dim == 3) {
+      std::filesystem::path file = cf.string(s.key);
+      if (file.is_relative()) file = std::filesystem::path(cf.name()).parent_path() / file;
+      std::shared_ptr<const StlBody> body;
+      try {
+        body = std::make_shared<const StlBody>(file);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}: {}", cf.name(), s.key, e.what()));
+      }
+      s.box = {body->lo(), body->hi()};
+      s.inside = [body](const Vec<dim>& x) { return body->contains(x); };
+    }
+  } else if (cf.has(k + ".mesh")) {
     s.key = k + ".mesh";
     cf.require(!cf.has(k + ".min") && !cf.has(k + ".max") && !cf.has(k + ".polygon"), s.key,
                "either a mesh, a polygon or min/max, not two of them");
