@@ -124,10 +124,6 @@ void run_strength_reduction(CaseFile& cf, const fs::path& out_dir, const MpmRunO
                                  "(it writes no checkpoints)",
                                  options.restart.string(), cf.name()));
   const fs::path shown = options.shown.empty() ? out_dir : options.shown;
-  if (!options.quiet)
-    fmt::print("gradmpm: strength reduction: c / F and tan(phi) / F (sigma_y / F), the case's load steps per trial; "
-               "F from {:g}, to within {:g}\n",
-               s.first_factor, s.tolerance);
   std::string csv = "trial,factor,stands,load_factor,steps,newton_iterations,cuts,max_displacement,seconds,folder\n";
   std::optional<double> stood, failed;
   std::optional<Trial> best;  ///< the trial of the largest factor that stood
@@ -140,6 +136,10 @@ void run_strength_reduction(CaseFile& cf, const fs::path& out_dir, const MpmRunO
       out.write_text("strength_reduction.csv", csv);
       out.commit();
     }
+    if (!options.quiet && number == 1)  // (after the first trial: a case it refuses prints its error alone)
+      fmt::print("gradmpm: strength reduction: c / F and tan(phi) / F (sigma_y / F), the case's load steps per trial; "
+                 "F from {:g}, to within {:g}\n",
+                 s.first_factor, s.tolerance);
     if (!options.quiet)
       fmt::print("  trial {:2d}  F {:.4f}  {}  load factor {:.4f}  steps {}  iterations {}  cuts {}  max |u| {:.3g}  "
                  "({:.2f} s)\n",
