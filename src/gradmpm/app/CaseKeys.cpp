@@ -238,6 +238,36 @@ SectionSpec ties_section() {
            .doc = "alpha: the tie's stiffness alpha E h^(dim-2) between neighbouring nodes (E the stiffest material's); the nodes differ by about 1 / alpha of the strain's displacement"}}};
 }
 
+/// [[point_loads]] (mpm_sections).
+SectionSpec point_loads_section() {
+  const std::string dimvec = "[dim numbers]";
+  return SectionSpec{"point_loads", SectionKind::Array, false, "forces on material points",
+         {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
+          {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
+          {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}};
+}
+
+/// [[rigid_boxes]] (mpm_sections).
+SectionSpec rigid_boxes_section() {
+  const std::string dimvec = "[dim numbers]";
+  return SectionSpec{"rigid_boxes", SectionKind::Array, false, "rigid boxes pushing the points by penalty contact, frictionless or rough (a footing that follows the material, a shaft)",
+         {{.name = "name", .type = K::String, .default_text = "none",
+           .doc = "its contact force and displacement go to reactions.csv every step"},
+          {.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box at load factor 0 (with `max`); no point's domain may overlap it then"},
+          {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
+          {.name = "displacement", .type = K::Other, .type_text = dimvec, .default_text = "zero",
+           .doc = "the box's displacement at load factor 1"},
+          {.name = "penalty", .type = K::Number, .default_value = 100.0, .min = 0.0, .max = 1e8, .min_open = true,
+           .allowed = "a number > 0 (at most 1e8)",
+           .doc = "alpha: contact stiffness k = alpha E / h per unit area (E the stiffest material's, h the smallest cell size); the penetration is q h / (alpha E); above 1e3 round-off in the contact may keep Newton above its tolerance (the failure message then names this key)"},
+          {.name = "friction", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 10.0,
+           .allowed = "a number from 0 to 10",
+           .doc = "mu: Coulomb friction, the shear the box carries is at most adhesion + mu times the pressure (a stiff stick below it, sliding at it; a non-symmetric tangent)"},
+          {.name = "adhesion", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e12,
+           .allowed = "a stress >= 0",
+           .doc = "a: the shear strength of the interface at no pressure (undrained clay's alpha s_u, with friction = 0: a Tresca interface)"}}};
+}
+
 /// [[pressure_constraints]] (mpm_sections).
 SectionSpec pressure_constraints_section() {
   const std::string dimvec = "[dim numbers]";
@@ -365,26 +395,8 @@ const std::vector<SectionSpec>& mpm_sections() {
           {.name = "gradient_boundary", .type = K::Boolean, .default_value = true,
            .doc = "false: a support that only removes rigid motion (a pinned node), not a boundary of the body; the "
                   "gradient step keeps its natural condition there (u-RA holds no value, e-RA/s-RA no odd component)"}}},
-        {"rigid_boxes", SectionKind::Array, false, "rigid boxes pushing the points by penalty contact, frictionless or rough (a footing that follows the material, a shaft)",
-         {{.name = "name", .type = K::String, .default_text = "none",
-           .doc = "its contact force and displacement go to reactions.csv every step"},
-          {.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box at load factor 0 (with `max`); no point's domain may overlap it then"},
-          {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
-          {.name = "displacement", .type = K::Other, .type_text = dimvec, .default_text = "zero",
-           .doc = "the box's displacement at load factor 1"},
-          {.name = "penalty", .type = K::Number, .default_value = 100.0, .min = 0.0, .max = 1e8, .min_open = true,
-           .allowed = "a number > 0 (at most 1e8)",
-           .doc = "alpha: contact stiffness k = alpha E / h per unit area (E the stiffest material's, h the smallest cell size); the penetration is q h / (alpha E); above 1e3 round-off in the contact may keep Newton above its tolerance (the failure message then names this key)"},
-          {.name = "friction", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 10.0,
-           .allowed = "a number from 0 to 10",
-           .doc = "mu: Coulomb friction, the shear the box carries is at most adhesion + mu times the pressure (a stiff stick below it, sliding at it; a non-symmetric tangent)"},
-          {.name = "adhesion", .type = K::Number, .default_value = 0.0, .min = 0.0, .max = 1e12,
-           .allowed = "a stress >= 0",
-           .doc = "a: the shear strength of the interface at no pressure (undrained clay's alpha s_u, with friction = 0: a Tresca interface)"}}},
-        {"point_loads", SectionKind::Array, false, "forces on material points",
-         {{.name = "min", .type = K::Other, .type_text = dimvec, .doc = "the box of points loaded (with `max`)"},
-          {.name = "max", .type = K::Other, .type_text = dimvec, .doc = "see `min`"},
-          {.name = "force", .type = K::Other, .type_text = dimvec, .doc = "force on every point in the box at load factor 1"}}},
+        rigid_boxes_section(),
+        point_loads_section(),
         point_sets_section(),
         ties_section(),
         pressure_constraints_section(),
