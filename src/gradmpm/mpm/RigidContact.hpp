@@ -49,16 +49,19 @@ class RigidContact {
       lo_.push_back(b.lo + lambda_end * b.total);
       hi_.push_back(b.hi + lambda_end * b.total);
       moved_.push_back(dlambda * b.total);
+      any_frictional_ = any_frictional_ || b.friction > 0.0 || b.adhesion > 0.0;
     }
   }
 
   /// Finds the contacts at the iterate du and adds -sum_p N_a F_p to f_int (the boxes act
   /// on the body like an external force that depends on its motion).
   void add_force(const Vector& du, Vector& f_int) {
-    // The sliding directions of the last iterate, for sliding(): (re)sized per step's points
-    previous_.assign(pts_.size(), Vec<dim>::Zero());
-    for (const Contact& c : contacts_)
-      if (c.slides) previous_[c.point] = c.direction;
+    // The sliding directions of the last iterate, for sliding() (frictional boxes only)
+    if (any_frictional_) {
+      previous_.assign(pts_.size(), Vec<dim>::Zero());
+      for (const Contact& c : contacts_)
+        if (c.slides) previous_[c.point] = c.direction;
+    }
     contacts_.clear();
     for (auto& f : force_) f.setZero();
     for (int p = 0; p < pts_.size(); ++p) {
@@ -194,6 +197,7 @@ class RigidContact {
   const PointStencils<dim>& st_;
   const DofMap& dofs_;
   const bool axisymmetric_;
+  bool any_frictional_ = false;  ///< a box has friction or adhesion (the iterates' sliding directions are kept)
   std::vector<Vec<dim>> lo_, hi_, moved_, force_;
   std::vector<Contact> contacts_;
   std::vector<Vec<dim>> previous_;  ///< per point: its sliding direction at the iterate before (zero: none)
