@@ -9,7 +9,11 @@
 //     without it stops (a point inverts) or gets through only by cutting steps, with it
 //     every step converges uncut and q/c stays within 5 % of Prandtl's 2 + pi from
 //     s/B = 0.02 to 0.03; before any active cell is empty the answers equal those without
-//     the penalty. (Which of the two the run without it does depends on round-off: it
+//     the penalty;
+//  R4 axisymmetric (r-z), the face integrals are per radian: a kink of slope jump s across
+//     a face costs gamma h s^2 times r_F L on a face r = r_F of length L, and times
+//     (r_1^2 - r_0^2) / 2 on a face z = const from r_0 to r_1 (closed forms, 1e-12); the
+//     penalty stays symmetric, positive semi-definite and zero on fields linear in (r, z). (Which of the two the run without it does depends on round-off: it
 //     stopped at s/B = 0.0125 with one summation order of the assembly, and runs on
 //     with one cut and a jagged q/c, 5.08, 5.08, 5.13, 5.24, 5.11, ... with the present one.)
 #include <fmt/format.h>
@@ -18,6 +22,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <random>
 #include <string>
 
@@ -84,7 +89,7 @@ TEST(GhostPenalty, OneDimensionalFaceIsTheSecondDifference) {
 }
 
 template <int dim>
-void check_consistent_and_positive() {
+void check_consistent_and_positive(bool axisymmetric = false) {
   // A block of 3^dim cells (2 points per cell and direction) in a grid of 5^dim cells; the
   // points of its top layer moved up by 0.03 h, so the cells above are reached by slivers.
   typename Grid<dim>::Index n, first, last;
@@ -102,7 +107,7 @@ void check_consistent_and_positive() {
     if (x[dim - 1] > top - 1e-9) x[dim - 1] += 0.015;
   const auto st = evaluate_stencils(grid, pts, BasisKind::UGIMP);
   const DofMap dofs(st, grid.num_nodes(), dim);
-  GhostFaces<dim> ghost(grid, pts, mats, dofs, 0.05);
+  GhostFaces<dim> ghost(grid, pts, mats, dofs, 0.05, {}, axisymmetric);
   ASSERT_GT(ghost.size(), 0);
   for (const auto& F : ghost.faces())  // every penalised face has a node above the block's top
     EXPECT_TRUE(std::any_of(F.node.begin(), F.node.begin() + F.count,
@@ -137,6 +142,54 @@ void check_consistent_and_positive() {
 
 TEST(GhostPenalty, SymmetricPositiveAndZeroOnLinearFields2D) { check_consistent_and_positive<2>(); }
 TEST(GhostPenalty, SymmetricPositiveAndZeroOnLinearFields3D) { check_consistent_and_positive<3>(); }
+TEST(GhostPenalty, SymmetricPositiveAndZeroOnLinearFieldsAxisymmetric) { check_consistent_and_positive<2>(true); }
+
+TEST(GhostPenalty, AxisymmetricFacesAreWeightedByTheRadius) {
+  // The block of check_consistent_and_positive in r-z (r = x from the axis), its top layer
+  // of points lifted so that the row of cells above is reached by slivers, and its right
+  // column pushed out so that the column beside it is too: faces of both normals.
+  const double h = 0.5, alpha = 0.05, young = 1000.0, gamma = alpha * young, s = 0.3;
+  Grid<2> grid(Vec<2>::Zero(), Vec<2>::Constant(h), {6, 5});
+  std::vector<std::shared_ptr<const Material>> mats{std::make_shared<Hencky>(young, 0.3, 1.0)};
+  MaterialPoints<2> pts;
+  add_regular_points<2>(
+      grid, {0, 1}, {4, 4}, 2, [](const Vec<2>&) { return true; }, 0, 1.0, pts);
+  for (auto& x : pts.position) {
+    if (x[1] > 1.8) x[1] += 0.015;
+    if (x[0] > 1.8) x[0] += 0.015;
+  }
+  const auto st = evaluate_stencils(grid, pts, BasisKind::UGIMP);
+  const DofMap dofs(st, grid.num_nodes(), 2);
+  GhostFaces<2> ghost(grid, pts, mats, dofs, alpha, {}, true);
+  const Eigen::MatrixXd G = dense_penalty(ghost, dofs);
+  // The faces by (normal d, plane x_d = const), with the closed form of each one's r-weight.
+  std::map<std::pair<int, double>, double> weight;
+  for (const auto& F : ghost.faces()) {
+    const int d = F.normal;
+    double lo[2] = {1e9, 1e9};
+    for (int a = 0; a < F.count; ++a)
+      for (int e = 0; e < 2; ++e) lo[e] = std::min(lo[e], grid.node_position(F.node[a])[e]);
+    ASSERT_EQ(F.count, 6) << "both cells of a penalised face are active: all six nodes";
+    const double plane = lo[d] + h;
+    weight[{d, plane}] += d == 0 ? plane * h : 0.5 * ((lo[0] + h) * (lo[0] + h) - lo[0] * lo[0]);
+  }
+  int normals[2] = {0, 0};
+  for (const auto& [key, w] : weight) {
+    const auto [d, plane] = key;
+    ++normals[d];
+    for (int i = 0; i < 2; ++i) {  // u_i = s (x_d - plane)_+
+      Vector u = Vector::Zero(dofs.num_dofs());
+      for (int e = 0; e < dofs.num_active_nodes(); ++e)
+        u[e * 2 + i] = s * std::max(grid.node_position(dofs.node_of(e))[d] - plane, 0.0);
+      const double energy = u.dot(G * u), expected = gamma * h * s * s * w;
+      std::cout << "face " << (d == 0 ? "r = " : "z = ") << plane << ", u_" << i << ": " << energy << " against "
+                << expected << "\n";
+      EXPECT_NEAR(energy, expected, 1e-12 * expected);
+    }
+  }
+  EXPECT_GT(normals[0], 0) << "a face r = const";
+  EXPECT_GT(normals[1], 0) << "a face z = const";
+}
 
 TEST(GhostPenalty, CuresTheFBarFootingOnTheFinerGrid) {
   // examples/footing_tresca_2d.toml (h = B/8) with F-bar, pushed to s/B = 0.03 in 12 steps.

@@ -8,7 +8,10 @@
 //     meets Mohr-Coulomb's plane) and lies there to 1e-10, inside both surfaces;
 //  R3 the tangent equals central differences of the update (1e-6 relative) in every one of
 //     these states;
-//  R4 the keys are read and checked: residual_cohesion <= cohesion, tension_cutoff >= 0.
+//  R4 the keys are read and checked: residual_cohesion <= cohesion, tension_cutoff >= 0;
+//  R5 phi = psi = 0 is Tresca: sigma_1 - sigma_3 = 2 c on the plane and both edges (1e-10),
+//     the mean stress the trial's (deviatoric flow), no apex (a trial of any pressure,
+//     however large, stays elastic), the tangent equals central differences.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -119,6 +122,43 @@ TEST(MohrCoulombCutoff, EveryReturnOfTheCutoffIsReachedAndLiesThere) {
                 << ", max |A - A_fd| / max |A| = " << err << "\n";
       EXPECT_LT(err, 1e-6) << c.what << ", psi = " << psi;
     }
+  }
+}
+
+TEST(MohrCoulombTresca, ZeroFrictionIsTrescasPrism) {
+  using R = MohrCoulomb::Region;
+  const MohrCoulomb m(IsotropicElasticity(kE, kNu), 1.0, {kC, 0.0, 0.0});
+  const double tol = 1e-10 * kC;
+  struct Case {
+    const char* what;
+    Eigen::Vector3d eps;
+    R expected;
+  };
+  const std::vector<Case> cases = {
+      {"plane", {0.01, 0.0, -0.01}, R::Plane},
+      {"edge sigma_1 = sigma_2", {0.01, 0.0102, -0.03}, R::EdgeCompression},
+      {"edge sigma_2 = sigma_3", {0.02, -0.02, -0.0202}, R::EdgeExtension},
+      {"plane, under a pressure", {-0.09, -0.1, -0.11}, R::Plane},
+      {"hydrostatic tension", {0.3, 0.3, 0.3}, R::Elastic},
+      {"hydrostatic compression", {-0.3, -0.3, -0.3}, R::Elastic},
+  };
+  for (const auto& c : cases) {
+    const auto u = test::respond(m, stretch(c.eps), state(0.0));
+    EXPECT_EQ(MohrCoulomb::region(u.r), c.expected) << c.what;
+    const Eigen::Vector3d sg = sorted_principal(u.r.stress);
+    // The trial's mean Kirchhoff stress: K tr(log strain) (from eps_n = 0).
+    const double bulk = kE / (3.0 * (1.0 - 2.0 * kNu));
+    EXPECT_NEAR(sg.mean(), bulk * c.eps.sum(), 1e-10 * std::abs(bulk * c.eps.sum()) + tol) << c.what;
+    if (c.expected == R::Elastic) {
+      EXPECT_EQ(u.state[6], 0.0) << c.what;
+      continue;
+    }
+    EXPECT_NEAR(sg[0] - sg[2], 2.0 * kC, tol) << c.what;
+    if (c.expected == R::EdgeCompression) EXPECT_NEAR(sg[0], sg[1], tol) << c.what;
+    if (c.expected == R::EdgeExtension) EXPECT_NEAR(sg[1], sg[2], tol) << c.what;
+    const double err = tangent_error(m, stretch(c.eps), state(0.0));
+    std::cout << "Tresca, " << c.what << ": sigma " << sg.transpose() << ", max |A - A_fd| / max |A| = " << err << "\n";
+    EXPECT_LT(err, 1e-6) << c.what;
   }
 }
 

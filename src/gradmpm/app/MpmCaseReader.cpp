@@ -501,7 +501,6 @@ void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, con
                        Model<dim>& m) {
   if (!m.axisymmetric) return;
   const std::string why = "with [mpm] axisymmetric = true (not built for r-z yet: docs/axisymmetry.md)";
-  cf.require(m.ghost_penalty == 0.0, "mpm.ghost_penalty", "0 " + why);
   cf.require(m.ties.empty(), "ties", "no [[ties]] " + why);
   cf.require(!m.pore.active(), "pore_pressure", "no pore pressure " + why);
   cf.require(gradient.variant == GradientVariant::None, "gradient.variant", "\"none\" " + why);

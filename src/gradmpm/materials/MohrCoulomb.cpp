@@ -140,14 +140,16 @@ bool MohrCoulomb::return_onto(unsigned set, const Eigen::Vector3d& tr, double s,
 MohrCoulomb::Return MohrCoulomb::beyond_apex(double s) const {
   // No flow directions reach the stress: beyond the apex with too little dilation (psi = 0:
   // deviatoric flow never changes the mean stress). The apex then acts as a cut-off of the
-  // mean stress (as Clausen et al. do), or the cut-off's apex when that is lower.
-  const double apex = s / (k_ - 1.0);
-  const bool cut = std::isfinite(sigma_t_) && sigma_t_ < apex;
+  // mean stress (as Clausen et al. do), or the cut-off's apex when that is lower. Tresca
+  // (phi = 0) has no apex: its prism returns every trial to a plane or an edge, so this is
+  // reached only by round-off, and the NaN cuts the step.
+  const double apex = k_ > 1.0 ? s / (k_ - 1.0) : std::numeric_limits<double>::quiet_NaN();
+  const bool cut = std::isfinite(sigma_t_) && !(sigma_t_ >= apex);
   Return out;
   out.active = cut ? kCutoffPlanes : 0b111;
   out.sigma = (cut ? sigma_t_ : apex) * kOnes;
   out.P.setZero();
-  out.g = cut ? Eigen::Vector3d::Zero() : Eigen::Vector3d(kOnes / (k_ - 1.0));
+  out.g = cut || !(k_ > 1.0) ? Eigen::Vector3d::Zero() : Eigen::Vector3d(kOnes / (k_ - 1.0));
   return out;
 }
 
@@ -225,8 +227,8 @@ MaterialInfo mohr_coulomb_info() {
   // A table of keys (laid out by hand).
   // clang-format off
   keys.push_back({.name = "cohesion", .type = KeyType::Number, .min = 0.0, .min_open = true, .allowed = "a cohesion > 0", .doc = "c"});
-  keys.push_back({.name = "friction_angle", .type = KeyType::Number, .min = 0.0, .max = 90.0, .min_open = true, .max_open = true,
-                  .allowed = "an angle in degrees in (0, 90)", .doc = "phi, degrees"});
+  keys.push_back({.name = "friction_angle", .type = KeyType::Number, .min = 0.0, .max = 90.0, .max_open = true,
+                  .allowed = "an angle in degrees in [0, 90)", .doc = "phi, degrees; 0: Tresca (strength c in shear)"});
   keys.push_back({.name = "dilation_angle", .type = KeyType::Number, .min = 0.0, .max = 90.0, .max_open = true,
                   .allowed = "an angle in degrees in [0, friction_angle]", .doc = "psi, degrees; psi < phi: non-associated flow, non-symmetric tangent"});
   keys.push_back({.name = "hardening", .type = KeyType::Number, .default_value = 0.0, .doc = "H = dc / d eps_p; negative: softening"});

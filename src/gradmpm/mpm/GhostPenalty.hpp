@@ -23,8 +23,12 @@
 // cells that hold points are never penalised, so the plastic zone under a load is not
 // stiffened (penalising the faces of every cell beside an empty one raised the Tresca
 // footing's collapse load by 10 % at alpha = 0.01: measured, docs/plasticity.md).
+// Axisymmetric (r-z, x the radius): the face integrals are per radian, weighted by r as
+// every other term is: a face r = r_F takes r_F, and a face z = const integrates
+// T_a T_b r dr over its extent in r > 0 (two-point Gauss, exact for the cubic).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -43,6 +47,7 @@ class GhostFaces {
   static constexpr int kFaceNodes = 3 * (1 << (dim - 1));
   struct Face {
     int count = 0;                                    ///< its active nodes
+    int normal = 0;                                   ///< the direction d of the face x_d = const
     std::array<int, kFaceNodes> node{};               ///< grid node numbers
     std::array<double, kFaceNodes * kFaceNodes> g{};  ///< g_ab, row-major over the active nodes
   };
@@ -56,7 +61,8 @@ class GhostFaces {
   /// messages, not a max over every cell of the grid on every rank).
   GhostFaces(const Grid<dim>& grid, const MaterialPoints<dim>& pts,
              const std::vector<std::shared_ptr<const Material>>& materials, const DofMap& dofs, double alpha,
-             const RankBoxes& boxes = {}) {
+             const RankBoxes& boxes = {}, bool axisymmetric = false)
+      : axisymmetric_(axisymmetric) {
     const bool over_ranks = !boxes.empty();
     // The cells this rank looks at: its box and the next layer beyond its upper sides
     // (the whole grid serially), numbered within that window, so that no array is as
@@ -224,6 +230,7 @@ class GhostFaces {
     std::array<std::array<int, dim>, kFaceNodes> offset{};  // plane in d (0..2); 0/1 in the others
     std::array<int, kFaceNodes> node{};
     Face F;
+    F.normal = d;
     for (int a = 0; a < kFaceNodes; ++a) {
       int code = a;
       Index ijk = left;
@@ -241,18 +248,41 @@ class GhostFaces {
         F.node[F.count++] = node[a];
       }
     if (F.count == 0) return;
+    // (axisymmetric: a face r = r_F <= 0 has no extent per radian)
+    const double face_radius = grid.origin()[0] + (left[0] + 1) * h[0];
+    if (axisymmetric_ && d == 0 && face_radius <= 0.0) return;
     for (int i = 0; i < F.count; ++i)
       for (int j = 0; j < F.count; ++j) {
         const auto& oa = offset[kept[i]];
         const auto& ob = offset[kept[j]];
         double v = gamma / h[d] * c[oa[d]] * c[ob[d]];
         for (int e = 0; e < dim; ++e)
-          if (e != d) v *= h[e] * (oa[e] == ob[e] ? 1.0 / 3.0 : 1.0 / 6.0);
+          if (e != d) v *= tangential_integral(grid, left, e, oa[e], ob[e]);
+        if (axisymmetric_ && d == 0) v *= face_radius;
         F.g[i * F.count + j] = v;
       }
     faces_.push_back(F);
   }
 
+  /// The integral, along the face's tangential direction e over cell `left`'s extent, of
+  /// the hat functions of its node offsets a and b (0 or 1): h (1/3 or 1/6); per radian in
+  /// r (axisymmetric, e = 0), of T_a T_b r over the part at r > 0.
+  double tangential_integral(const Grid<dim>& grid, const Index& left, int e, int a, int b) const {
+    const double h = grid.cell_size()[e];
+    if (!axisymmetric_ || e != 0) return h * (a == b ? 1.0 / 3.0 : 1.0 / 6.0);
+    const double r0 = grid.origin()[0] + left[0] * h, r1 = r0 + h;
+    const double lo = std::max(r0, 0.0);
+    if (lo >= r1) return 0.0;
+    const double mid = 0.5 * (lo + r1), half = 0.5 * (r1 - lo), g = half / std::sqrt(3.0);
+    double sum = 0.0;
+    for (const double r : {mid - g, mid + g}) {
+      const double t = (r - r0) / h;  // node offset 1's hat; offset 0's is 1 - t
+      sum += (a ? t : 1.0 - t) * (b ? t : 1.0 - t) * r;
+    }
+    return half * sum;
+  }
+
+  bool axisymmetric_ = false;
   std::vector<Face> faces_;
 };
 

@@ -57,7 +57,7 @@ class LoadStep final : public ParametrisedProblem {
         dofs_(st_, m.grid.num_nodes(), dim, m.rank_boxes, ghost_margin),
         ghost_(m.ghost_penalty > 0.0
                    ? std::make_unique<GhostFaces<dim>>(m.grid, m.points, m.materials, dofs_, m.ghost_penalty,
-                                                       m.rank_boxes)
+                                                       m.rank_boxes, m.axisymmetric)
                    : nullptr),
         contact_(m.rigid_boxes.empty()
                      ? nullptr
