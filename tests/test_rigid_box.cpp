@@ -13,12 +13,24 @@
 //  R5 a block dragged on a rough plane (a rigid box moving under it, the block's top held
 //     sideways, gravity pressing it down): sliding, the plane's shear on it is mu times
 //     its pressure to 1e-8 at every step; a drag too small to overcome the friction
-//     sticks (shear below half of mu N), and the stick carries over from step to step.
+//     sticks (shear below half of mu N), and the stick carries over from step to step;
+//  R6 a rigid polygon ([[rigid_bodies]] shape = "polygon") that is a box gives the box's
+//     answers, smooth and rough (contact forces at every step, 1e-12 relative);
+//  R7 a rough polygon (a wedge pressed into the plastic block and moved sideways, its
+//     contacts on inclined faces and on its bounding box's), the tangent is the derivative
+//     of the internal force (1e-6 relative);
+//  R8 a frictionless polygon pushes along its face's normal: a ramp (bottom face of slope
+//     0.1) pressed into the block gives a force with F_x / F_y = -0.1 (1e-10);
+//  R9 bad polygons are refused, naming the key: fewer than 3 vertices, not convex, in 3D,
+//     overlapping a point at the start.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "MpmTestUtil.hpp"
 #include "PlasticityTestUtil.hpp"
@@ -197,4 +209,81 @@ TEST(RigidBox, BlockDraggedOnARoughPlaneSlidesAtMuTimesItsPressure) {
       EXPECT_GT(shear, 0.0) << "the stick's shear is kept for the next step";
     }
   }
+}
+
+namespace {
+/// The plastic block of R2 with `body` appended, one load step.
+MpmCase<2> block_with(const std::string& body, int steps = 1) {
+  CaseFile cf = CaseFile::parse(test::strip_load_case() + body, "block.toml",
+                                {fmt::format("load_steps.count={}", steps), "constraints[2].displacement=[0.0,0.0]"});
+  return read_mpm_case<2>(cf);
+}
+std::vector<Vector> contact_forces(MpmCase<2> c) {
+  std::vector<Vector> F;
+  run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo& info) { F.push_back(info.rigid_forces()); });
+  return F;
+}
+}  // namespace
+
+TEST(RigidBody, PolygonThatIsABoxGivesTheBoxsAnswers) {
+  for (const std::string rough : {"", "friction = 0.3\n"}) {
+    const std::string move = "displacement = [0.0, -0.03]\n" + rough;
+    const std::vector<Vector> box =
+        contact_forces(block_with("[[rigid_boxes]]\nmin = [-1.0, 1.0]\nmax = [0.3, 2.0]\n" + move, 4));
+    const std::vector<Vector> polygon = contact_forces(block_with(
+        "[[rigid_bodies]]\nshape = \"polygon\"\nvertices = [[-1.0, 1.0], [0.3, 1.0], [0.3, 2.0], [-1.0, 2.0]]\n" + move,
+        4));
+    ASSERT_GE(box.size(), 4u);
+    ASSERT_EQ(polygon.size(), box.size()) << "the same steps, cuts and all";
+    for (std::size_t k = 0; k < box.size(); ++k) {
+      std::cout << (rough.empty() ? "smooth" : "rough") << ", step " << k + 1 << ": box (" << box[k][0] << ", "
+                << box[k][1] << "), polygon (" << polygon[k][0] << ", " << polygon[k][1] << ")\n";
+      EXPECT_LT((box[k] - polygon[k]).norm(), 1e-12 * box[k].norm()) << "step " << k + 1;
+    }
+  }
+}
+
+TEST(RigidBody, RoughPolygonTangentIsTheDerivativeOfTheInternalForce) {
+  // A wedge, its tip at (0.2, 1) on the block's top, pressed 0.02 and moved 0.01 sideways.
+  MpmCase<2> c = block_with(
+      "[[rigid_bodies]]\nshape = \"polygon\"\nvertices = [[0.2, 1.0], [0.7, 1.5], [-0.3, 1.5]]\n"
+      "displacement = [0.01, -0.02]\nfriction = 0.3\nadhesion = 0.5\n");
+  detail::LoadStep<2> step(c.model, 1.0, 1.0);
+  const test::TangentCheck check = test::assembled_tangent_check(step, 1e-4, 5, 1e-8);
+  const Vector F = step.rigid_forces();
+  std::cout << "rough wedge: contact force (" << F[0] << ", " << F[1] << "), max |K - K_fd| / max |K| = " << check.error
+            << ", asymmetry " << check.asymmetry << "\n";
+  EXPECT_LT(F[1], 0.0) << "the wedge presses";
+  EXPECT_LT(check.error, 1e-6);
+}
+
+TEST(RigidBody, FrictionlessPolygonPushesAlongItsFacesNormal) {
+  const std::vector<Vector> F = contact_forces(block_with(
+      "[[rigid_bodies]]\nshape = \"polygon\"\nvertices = [[-0.5, 0.95], [1.5, 1.15], [1.5, 2.0], [-0.5, 2.0]]\n"
+      "displacement = [0.0, -0.02]\n",
+      2));
+  ASSERT_EQ(F.size(), 2u);
+  for (const Vector& f : F) {
+    std::cout << "ramp: force (" << f[0] << ", " << f[1] << "), F_x / F_y = " << f[0] / f[1] << "\n";
+    EXPECT_LT(f[1], 0.0);
+    EXPECT_NEAR(f[0] / f[1], -0.1, 1e-10);
+  }
+}
+
+TEST(RigidBody, BadPolygonsAreRefusedNamingTheKey) {
+  const std::string head = "[[rigid_bodies]]\nshape = \"polygon\"\n";
+  auto error = [&](const std::string& body) {
+    return test::read_error<2>(CaseFile::parse(test::strip_load_case() + head + body, "block.toml"));
+  };
+  std::string msg = error("vertices = [[0.0, 1.5], [1.0, 1.5]]\n");
+  EXPECT_NE(msg.find("rigid_bodies[0].vertices: expected at least 3 vertices"), std::string::npos) << msg;
+  msg = error("vertices = [[0.0, 1.5], [1.0, 1.5], [0.5, 1.7], [1.0, 2.0], [0.0, 2.0]]\n");
+  EXPECT_NE(msg.find("rigid_bodies[0].vertices: expected a convex polygon"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("turns the other way"), std::string::npos) << msg;
+  msg = error("vertices = [[0.0, 1.5], [0.5, 1.5], [1.0, 1.5], [0.5, 2.0]]\n");
+  EXPECT_NE(msg.find("on a line with its neighbours"), std::string::npos) << msg;
+  msg = error("vertices = [[0.5, 0.5], [1.5, 0.5], [1.0, 1.5]]\n");
+  EXPECT_NE(msg.find("rigid_bodies[0].vertices: expected a body that no material point's domain overlaps"),
+            std::string::npos)
+      << msg;
 }

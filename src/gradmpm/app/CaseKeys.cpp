@@ -268,6 +268,20 @@ SectionSpec rigid_boxes_section() {
            .doc = "a: the shear strength of the interface at no pressure (undrained clay's alpha s_u, with friction = 0: a Tresca interface)"}}};
 }
 
+/// [[rigid_bodies]] (mpm_sections): [[rigid_boxes]]' keys, with a shape for min and max.
+SectionSpec rigid_bodies_section() {
+  SectionSpec sec{"rigid_bodies", SectionKind::Array, false, "rigid bodies of other shapes than boxes, pushing the points as [[rigid_boxes]] do (a cone, a wedge, an inclined plate; 2D and r-z)",
+         {{.name = "shape", .type = K::String, .choices = {"polygon"},
+           .doc = "\"polygon\": a convex polygon given by `vertices`"},
+          {.name = "vertices", .type = K::Other, .type_text = "[[x, y], ...]",
+           .doc = "the convex polygon at load factor 0, >= 3 vertices in either order; no point's domain may overlap it then"}}};
+  for (const KeySpec& key : rigid_boxes_section().keys)
+    if (key.name != "min" && key.name != "max") sec.keys.push_back(key);
+  for (KeySpec& key : sec.keys)
+    if (key.name == "displacement") key.doc = "the body's displacement at load factor 1 (it translates, without turning)";
+  return sec;
+}
+
 /// [[pressure_constraints]] (mpm_sections).
 SectionSpec pressure_constraints_section() {
   const std::string dimvec = "[dim numbers]";
@@ -396,6 +410,7 @@ const std::vector<SectionSpec>& mpm_sections() {
            .doc = "false: a support that only removes rigid motion (a pinned node), not a boundary of the body; the "
                   "gradient step keeps its natural condition there (u-RA holds no value, e-RA/s-RA no odd component)"}}},
         rigid_boxes_section(),
+        rigid_bodies_section(),
         point_loads_section(),
         point_sets_section(),
         ties_section(),

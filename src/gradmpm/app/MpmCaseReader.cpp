@@ -22,6 +22,7 @@
 #include "gradmpm/materials/MaterialRegistry.hpp"
 #include "gradmpm/mpm/InitialStress.hpp"
 #include "gradmpm/mpm/RankPoints.hpp"
+#include "gradmpm/mpm/RigidContact.hpp"
 #include "gradmpm/points/Generate.hpp"
 
 namespace gradmpm {
@@ -105,18 +106,20 @@ Box<dim> read_box(const CaseFile& cf, const std::string& prefix) {
 template <int dim>
 void check_rigid_box(const CaseFile& cf, const std::string& k, const RigidBox<dim>& b, const Vec<dim>& origin,
                      const Vec<dim>& grid_hi, const Model<dim>& m) {
+  const bool box = b.polygon.empty();
   bool meets = true;
   for (int d = 0; d < dim; ++d) {
     cf.require(b.hi[d] > b.lo[d], k + ".max", "a box of positive size in every direction");
     const double lo = std::min(b.lo[d], b.lo[d] + b.total[d]), hi = std::max(b.hi[d], b.hi[d] + b.total[d]);
     meets = meets && lo < grid_hi[d] && hi > origin[d];
   }
-  cf.require(meets, k + ".min", "a box that meets the grid on its way (it could touch no material point)");
+  cf.require(meets, k + (box ? ".min" : ".vertices"),
+             fmt::format("a {} that meets the grid on its way (it could touch no material point)", box ? "box" : "body"));
   if (b.name.empty()) return;
   for (const auto& s : m.node_sets)
     cf.require(s.name != b.name, k + ".name", "a name no named constraint has (reactions.csv has one row per name)");
   for (const auto& other : m.rigid_boxes)
-    cf.require(other.name != b.name, k + ".name", "a name no other rigid box has (reactions.csv has one row per name)");
+    cf.require(other.name != b.name, k + ".name", "a name no other rigid box or body has (reactions.csv has one row per name)");
 }
 
 /// [regularisation]: makes every softening material regularised (materials/PlasticLaw.hpp)
@@ -521,6 +524,81 @@ void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, con
   }
 }
 
+/// A convex polygon's vertices (key: "rigid_bodies[k].vertices"), anticlockwise: at least
+/// 3, every corner turning the same way (collinear or repeated vertices refused).
+template <int dim>
+std::vector<Vec<dim>> read_convex_polygon(const CaseFile& cf, const std::string& key) {
+  const auto list = cf.vector_list(key, 2);
+  cf.require(list.size() >= 3, key, "at least 3 vertices [[x, y], ...]");
+  std::vector<Vec<dim>> v;
+  double scale = 0.0;
+  for (const auto& p : list) {
+    Vec<dim> x;
+    for (int d = 0; d < dim; ++d) x[d] = p[d];
+    v.push_back(x);
+    scale = std::max(scale, x.cwiseAbs().maxCoeff());
+  }
+  const std::size_t n = v.size();
+  auto turn = [&](std::size_t k) {  // the corner at vertex k: (v_k - v_k-1) x (v_k+1 - v_k)
+    const Vec<dim> a = v[k] - v[(k + n - 1) % n], b = v[(k + 1) % n] - v[k];
+    return a[0] * b[1] - a[1] * b[0];
+  };
+  double area = 0.0;
+  for (std::size_t k = 0; k < n; ++k) area += v[k][0] * v[(k + 1) % n][1] - v[(k + 1) % n][0] * v[k][1];
+  if (area < 0.0) std::reverse(v.begin(), v.end());
+  for (std::size_t k = 0; k < n; ++k)
+    cf.require(turn(k) > 1e-12 * scale * scale, key,
+               fmt::format("a convex polygon, its vertices in order around it (vertex {} at ({:g}, {:g}) {})", k,
+                           list[area < 0.0 ? n - 1 - k : k][0], list[area < 0.0 ? n - 1 - k : k][1],
+                           std::abs(turn(k)) <= 1e-12 * scale * scale ? "is on a line with its neighbours"
+                                                                      : "turns the other way"));
+  return v;
+}
+
+/// [[rigid_bodies]] (mpm/RigidContact.hpp): convex polygons in 2D, kept with the rigid
+/// boxes, after them (reactions.csv's rows follow that order); none may overlap a point's
+/// domain at the start.
+template <int dim>
+void read_rigid_bodies(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
+  const double tol = 1e-9 * g.h.minCoeff();
+  const double young_max = stiffest_young(m.materials);
+  const SectionSpec& rigid = mpm_section("rigid_bodies");
+  for (std::size_t c = 0; c < cf.array_size("rigid_bodies"); ++c) {
+    const std::string k = fmt::format("rigid_bodies[{}]", c);
+    cf.require(dim == 2, k + ".shape",
+               "no [[rigid_bodies]] in a 1D or 3D case (their shapes are 2D and r-z; use [[rigid_boxes]])");
+    read_string(cf, k, rigid.key("shape"));
+    RigidBox<dim> b;
+    if (cf.has(k + ".name")) b.name = read_string(cf, k, rigid.key("name"));
+    cf.require(b.name.find_first_of(",\n\"") == std::string::npos, k + ".name",
+               "a name without commas, quotes or newlines");
+    b.polygon = read_convex_polygon<dim>(cf, k + ".vertices");
+    b.lo = b.hi = b.polygon[0];
+    for (const auto& v : b.polygon) {
+      b.lo = b.lo.cwiseMin(v);
+      b.hi = b.hi.cwiseMax(v);
+    }
+    if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
+    check_rigid_box(cf, k, b, g.origin, g.hi, m);
+    b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / g.h.minCoeff();
+    b.friction = read_number(cf, k, rigid.key("friction"));
+    b.adhesion = read_number(cf, k, rigid.key("adhesion"));
+    const auto faces = RigidContact<dim>::polygon_faces(b, 0.0);
+    int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
+    for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
+      const Vec<dim>&x = m.points.position[p], &l = m.points.half_length[p];
+      bool inside = true;  // (no axis separates them by more than tol)
+      for (int d = 0; d < dim; ++d) inside = inside && x[d] + l[d] > b.lo[d] + tol && x[d] - l[d] < b.hi[d] - tol;
+      for (const auto& f : faces) inside = inside && RigidContact<dim>::face_push(f, x, l) > tol;
+      if (inside) overlapped = m.id_of(p);
+    }
+    overlapped = ranks::min(overlapped);  // (every rank's points)
+    cf.require(overlapped == std::numeric_limits<int>::max(), k + ".vertices",
+               fmt::format("a body that no material point's domain overlaps at the start (point {} does)", overlapped));
+    m.rigid_boxes.push_back(b);
+  }
+}
+
 /// The nodes a [[constraints]] block selects: a face of the grid, or a box.
 template <int dim>
 Box<dim> constraint_selection(const CaseFile& cf, const std::string& k, const GridRead<dim>& g) {
@@ -712,7 +790,7 @@ void read_time(const CaseFile& cf, Model<dim>& m) {
     cf.require(c.total == 0.0, "time.ramp_time",
                "a ramp time > 0 where a displacement other than 0 is prescribed ([[constraints]])");
   for (const auto& b : m.rigid_boxes)
-    cf.require(b.total.isZero(), "time.ramp_time", "a ramp time > 0 where a rigid box moves ([[rigid_boxes]])");
+    cf.require(b.total.isZero(), "time.ramp_time", "a ramp time > 0 where a rigid body moves ([[rigid_boxes]], [[rigid_bodies]])");
 }
 
 /// [initial_stress]: every point starts from the geostatic stress (mpm/InitialStress.hpp).
@@ -957,6 +1035,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   if (cf.has("loads.gravity")) m.gravity = vec<dim>(cf, "loads.gravity");
   read_constraints(cf, g, m);
   read_rigid_boxes(cf, g, m);
+  read_rigid_bodies(cf, g, m);
   read_ties(cf, g, m);
   read_point_loads(cf, g, m);
   read_time(cf, m);
@@ -964,7 +1043,7 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
   if (newton.arc_length.enabled) read_arc_nodes(cf, g, newton.arc_length);
   if (newton.arc_length.enabled)  // the boxes are placed for a step's end, which arc-length finds
     cf.require(m.rigid_boxes.empty(), "arc_length",
-               "no [[rigid_boxes]] with arc-length control (they move with load steps only)");
+               "no [[rigid_boxes]] or [[rigid_bodies]] with arc-length control (they move with load steps only)");
   read_pore_pressure(cf, names, g, newton, m);
   check_monolithic_coupling(cf, newton, m);
   read_point_sets(cf, g, m);

@@ -171,15 +171,16 @@ void print_step(const StepInfo& info, bool inertial) {
 std::string penalty_hint(const CaseFile& cf, const std::string& failure) {
   if (failure.find("no convergence") == std::string::npos) return "";
   constexpr double stiff = 1e3;
-  for (std::size_t k = 0; k < cf.array_size("rigid_boxes"); ++k) {
-    const std::string key = fmt::format("rigid_boxes[{}].penalty", k);
-    const double penalty = read_number(cf, fmt::format("rigid_boxes[{}]", k), mpm_section("rigid_boxes").key("penalty"));
-    if (penalty > stiff)
-      return fmt::format(
-          "; {} = {:g} is the likely cause: a contact that stiff leaves round-off above the tolerance; try "
-          "{:g} or less (the default is 100), or a larger nonlinear_solver.tolerance",
-          key, penalty, stiff);
-  }
+  for (const std::string section : {"rigid_boxes", "rigid_bodies"})
+    for (std::size_t k = 0; k < cf.array_size(section); ++k) {
+      const std::string block = fmt::format("{}[{}]", section, k), key = block + ".penalty";
+      const double penalty = read_number(cf, block, mpm_section(section).key("penalty"));
+      if (penalty > stiff)
+        return fmt::format(
+            "; {} = {:g} is the likely cause: a contact that stiff leaves round-off above the tolerance; try "
+            "{:g} or less (the default is 100), or a larger nonlinear_solver.tolerance",
+            key, penalty, stiff);
+    }
   return "";
 }
 

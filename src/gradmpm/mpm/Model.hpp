@@ -54,12 +54,14 @@ struct PointSet {
   std::vector<int> points;
 };
 
-/// A rigid, frictionless, axis-aligned box pushing the material points by penalty contact
-/// (a footing, a platen, an indenter; mpm/RigidContact.hpp).
+/// A rigid body pushing the material points by penalty contact, frictionless or rough (a
+/// footing, a platen, an indenter, a cone; mpm/RigidContact.hpp): an axis-aligned box
+/// ([[rigid_boxes]]), or in 2D a convex polygon ([[rigid_bodies]]).
 template <int dim>
 struct RigidBox {
   std::string name;                   ///< reported in reactions.csv when not empty
-  Vec<dim> lo, hi;                    ///< the box at load factor 0
+  Vec<dim> lo, hi;                    ///< the box at load factor 0 (a polygon's bounding box)
+  std::vector<Vec<dim>> polygon;      ///< 2D: a convex polygon's vertices, anticlockwise, at load factor 0; empty: the box
   Vec<dim> total = Vec<dim>::Zero();  ///< its displacement at load factor 1
   double stiffness = 0.0;             ///< k: contact pressure per unit penetration
   double friction = 0.0;              ///< mu: Coulomb's coefficient (0: frictionless)

@@ -1,6 +1,7 @@
 #pragma once
-// Rigid axis-aligned boxes that push material points by penalty contact, frictionless or
-// with Coulomb friction and adhesion: a rigid footing, a platen, an indenter, a shaft. A footing held on a row of grid nodes
+// Rigid bodies that push material points by penalty contact, frictionless or with Coulomb
+// friction and adhesion: a rigid footing, a platen, an indenter, a shaft, a cone. A body
+// is an axis-aligned box, or in 2D a convex polygon. A footing held on a row of grid nodes
 // ([[constraints]]) loses its grip on the material once that has moved half a cell away
 // from the row (the nodes then reach the points only through the edge of their supports);
 // a box acting on the points themselves follows the material to any depth.
@@ -11,6 +12,13 @@
 // point's domain face area across n, k = penalty per unit area and penetration), applied
 // to the grid through N_a(x_p). The contact stiffness k A_p N_a N_b (n (x) n) is symmetric
 // and lives in the point's stencil, so the sparsity pattern does not change.
+// A convex polygon and a domain (a box) overlap unless an axis separates them (the
+// separating axis theorem): the axes are the polygon's face normals and the grid's. The
+// push-out along each is the overlap of their projections, and the smallest wins: along
+// a face normal n, g = c - n . x_p + sum_i l_i |n_i| (c = n . a vertex of the face);
+// along the grid's axes, the box's own push-outs against the polygon's bounding box. Every
+// g is linear in x_p with dg/dx_p = -n, so the tangent keeps its form; A_p across a face
+// normal is the domain's width along the face, 2 (l_x |n_y| + l_y |n_x|).
 //
 // Friction (RigidBox::friction mu, adhesion a): the tangential force T on the point is the
 // last step's (MaterialPoints::contact_shear) less k A_p times the point's slip against
@@ -20,6 +28,7 @@
 // slide, k A_p (limit / |T_trial|) (I - d d^T) N_a N_b there and mu k A_p sign d N_a N_b
 // from the tangential rows to the normal column (the pressure sets the limit): not
 // symmetric. Axisymmetric (Model::axisymmetric): A_p is per radian, times r_p.
+#include <cmath>
 #include <limits>
 #include <tuple>
 #include <vector>
@@ -44,13 +53,38 @@ class RigidContact {
         st_(st),
         dofs_(dofs),
         axisymmetric_(axisymmetric),
-        force_(boxes.size(), Vec<dim>::Zero()) {
-    for (const auto& b : boxes) {
-      lo_.push_back(b.lo + lambda_end * b.total);
-      hi_.push_back(b.hi + lambda_end * b.total);
-      moved_.push_back(dlambda * b.total);
-      any_frictional_ = any_frictional_ || b.friction > 0.0 || b.adhesion > 0.0;
+        force_(boxes.size(), Vec<dim>::Zero()),
+        faces_(boxes.size()) {
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      const RigidBox<dim>& box = boxes[b];
+      lo_.push_back(box.lo + lambda_end * box.total);
+      hi_.push_back(box.hi + lambda_end * box.total);
+      moved_.push_back(dlambda * box.total);
+      any_frictional_ = any_frictional_ || box.friction > 0.0 || box.adhesion > 0.0;
+      faces_[b] = polygon_faces(box, lambda_end);
     }
+  }
+
+  /// A polygon's faces at load factor lambda: outward normal n and c = n . x on the face.
+  struct Face {
+    Vec<dim> normal;
+    double offset;
+  };
+  static std::vector<Face> polygon_faces(const RigidBox<dim>& box, double lambda) {
+    std::vector<Face> faces;
+    const auto& v = box.polygon;
+    if constexpr (dim == 2)
+      for (std::size_t k = 0; k < v.size(); ++k) {
+        const Vec<dim> a = v[k] + lambda * box.total, e = v[(k + 1) % v.size()] - v[k];
+        const Vec<dim> n = Vec<dim>(e[1], -e[0]).normalized();  // (anticlockwise: outward)
+        faces.push_back({n, n.dot(a)});
+      }
+    return faces;
+  }
+  /// The push-out of a domain (centre x, half-lengths l) along a face's normal: its overlap
+  /// with the polygon across the face (< 0: the face separates them).
+  static double face_push(const Face& f, const Vec<dim>& x, const Vec<dim>& l) {
+    return f.offset - (f.normal.dot(x) - l.dot(f.normal.cwiseAbs()));
   }
 
   /// Finds the contacts at the iterate du and adds -sum_p N_a F_p to f_int (the boxes act
@@ -80,20 +114,33 @@ class RigidContact {
         c.box = static_cast<int>(b);
         c.gap = std::numeric_limits<double>::infinity();
         bool inside = true;
+        double sign = 0.0;
         for (int e = 0; e < dim && inside; ++e) {
           const double up = hi_[b][e] - (x[e] - l[e]), down = (x[e] + l[e]) - lo_[b][e];  // push-outs along +e, -e
           inside = up >= 0.0 && down >= 0.0;  // touching counts: its stiffness holds a body resting on the box
-          if (up < c.gap) std::tie(c.axis, c.sign, c.gap) = std::make_tuple(e, 1.0, up);
-          if (down < c.gap) std::tie(c.axis, c.sign, c.gap) = std::make_tuple(e, -1.0, down);
+          if (up < c.gap) std::tie(c.axis, sign, c.gap) = std::make_tuple(e, 1.0, up);
+          if (down < c.gap) std::tie(c.axis, sign, c.gap) = std::make_tuple(e, -1.0, down);
+        }
+        if (inside) c.normal = sign * Vec<dim>::Unit(c.axis);
+        for (std::size_t f = 0; f < faces_[b].size() && inside; ++f) {  // a polygon's faces
+          const double push = face_push(faces_[b][f], x, l);
+          inside = push >= 0.0;
+          if (push < c.gap) std::tie(c.axis, c.normal, c.gap) = std::make_tuple(-1, faces_[b][f].normal, push);
         }
         if (!inside) continue;
         double area = axisymmetric_ ? pts_.position[p][0] : 1.0;  // (per radian)
-        for (int e = 0; e < dim; ++e)
-          if (e != c.axis) area *= 2.0 * l[e];
+        if (c.axis >= 0) {
+          for (int e = 0; e < dim; ++e)
+            if (e != c.axis) area *= 2.0 * l[e];
+        } else if constexpr (dim == 2) {
+          area *= 2.0 * (l[0] * std::abs(c.normal[1]) + l[1] * std::abs(c.normal[0]));
+        }
         c.k_area = boxes_[b].stiffness * area;
-        const double F = c.sign * c.k_area * c.gap;  // on the point, along axis
-        force_[b][c.axis] += F;
-        for (int a = 0; a < s.count; ++a) f_int[dofs_.dof(s.node[a], c.axis)] -= s.N[a] * F;
+        const double F = c.k_area * c.gap;  // on the point, along the normal
+        force_[b] += F * c.normal;
+        for (int i = 0; i < dim; ++i)
+          if (c.normal[i] != 0.0)
+            for (int a = 0; a < s.count; ++a) f_int[dofs_.dof(s.node[a], i)] -= s.N[a] * (F * c.normal[i]);
         if (frictional(b)) add_shear(c, area, dx, f_int);
         contacts_.push_back(c);
       }
@@ -107,17 +154,15 @@ class RigidContact {
     for (const Contact& c : contacts_) {
       const Stencil<dim>& s = st_[c.point];
       // d(-N_a T_i) / d du_(b j) = N_a N_b M(i, j): the contact's block, its nodes' products aside
-      Eigen::Matrix<double, dim, dim> M = Eigen::Matrix<double, dim, dim>::Zero();
-      M(c.axis, c.axis) = c.k_area;
+      const Vec<dim>& n = c.normal;
+      Eigen::Matrix<double, dim, dim> M = c.k_area * n * n.transpose();
       if (frictional(c.box)) {
-        for (int i = 0; i < dim; ++i)
-          for (int j = 0; j < dim; ++j) {
-            if (i == c.axis || j == c.axis) continue;
-            M(i, j) = c.k_area * (sliding(c) ? c.ratio * ((i == j) - c.direction[i] * c.direction[j]) : (i == j));
-          }
-        if (sliding(c))  // the limit grows with the pressure
-          for (int i = 0; i < dim; ++i)
-            if (i != c.axis) M(i, c.axis) = c.direction[i] * boxes_[c.box].friction * c.k_area * c.sign;
+        const Eigen::Matrix<double, dim, dim> P = Eigen::Matrix<double, dim, dim>::Identity() - n * n.transpose();
+        if (sliding(c))  // the limit grows with the pressure: d g / d x = -n
+          M += c.k_area * (c.ratio * (P - c.direction * c.direction.transpose()) +
+                           boxes_[c.box].friction * c.direction * n.transpose());
+        else
+          M += c.k_area * P;
       }
       for (int b = 0; b < s.count; ++b)
         for (int j = 0; j < dim; ++j) {
@@ -149,8 +194,10 @@ class RigidContact {
 
  private:
   struct Contact {
-    int point = 0, box = 0, axis = 0;
-    double sign = 0.0, gap = 0.0, k_area = 0.0;
+    int point = 0, box = 0;
+    int axis = 0;                        ///< the grid axis of the normal; -1: a polygon's face normal
+    Vec<dim> normal = Vec<dim>::Zero();  ///< outward from the body, the push-out's direction
+    double gap = 0.0, k_area = 0.0;
     Vec<dim> shear = Vec<dim>::Zero();      ///< T on the point (friction)
     bool slides = false;                    ///< T at the limit
     double ratio = 0.0;                     ///< limit / |T_trial| when sliding
@@ -174,10 +221,12 @@ class RigidContact {
   /// box's force and f_int.
   void add_shear(Contact& c, double area, const Vec<dim>& dx, Vector& f_int) {
     const RigidBox<dim>& box = boxes_[c.box];
+    const Vec<dim>& n = c.normal;
     Vec<dim> T = pts_.contact_shear[c.point];  // the last step's, in this contact's plane
-    T[c.axis] = 0.0;
-    for (int j = 0; j < dim; ++j)
-      if (j != c.axis) T[j] -= c.k_area * (dx[j] - moved_[c.box][j]);  // the stick spring against the slip
+    T -= n * n.dot(T);
+    Vec<dim> slip = dx - moved_[c.box];
+    slip -= n * n.dot(slip);
+    T -= c.k_area * slip;  // the stick spring against the slip
     const double limit = box.adhesion * area + box.friction * c.k_area * c.gap, size = T.norm();
     c.slides = size > limit;
     if (c.slides) {
@@ -190,7 +239,7 @@ class RigidContact {
     const Stencil<dim>& s = st_[c.point];
     for (int a = 0; a < s.count; ++a)
       for (int j = 0; j < dim; ++j)
-        if (j != c.axis) f_int[dofs_.dof(s.node[a], j)] -= s.N[a] * T[j];
+        if (T[j] != 0.0) f_int[dofs_.dof(s.node[a], j)] -= s.N[a] * T[j];
   }
   const std::vector<RigidBox<dim>>& boxes_;
   const MaterialPoints<dim>& pts_;
@@ -199,6 +248,7 @@ class RigidContact {
   const bool axisymmetric_;
   bool any_frictional_ = false;  ///< a box has friction or adhesion (the iterates' sliding directions are kept)
   std::vector<Vec<dim>> lo_, hi_, moved_, force_;
+  std::vector<std::vector<Face>> faces_;  ///< per body: a polygon's faces at the step's end (none for a box)
   std::vector<Contact> contacts_;
   std::vector<Vec<dim>> previous_;  ///< per point: its sliding direction at the iterate before (zero: none)
 };
