@@ -11,9 +11,11 @@
 //     block and moved sideways), the tangent is the derivative of the internal force
 //     (1e-6 relative);
 //  R5 a block dragged on a rough plane (a rigid box moving under it, the block's top held
-//     sideways, gravity pressing it down): sliding, the plane's shear on it is mu times
-//     its pressure to 1e-8 at every step; a drag too small to overcome the friction
-//     sticks (shear below half of mu N), and the stick carries over from step to step;
+//     sideways, gravity pressing it down), nu = 0 and 0.3: sliding, the plane's shear on
+//     it is mu times its pressure to 1e-8 at every step; a drag too small to overcome the
+//     friction sticks (shear below half of mu N; with nu = 0.3 in partial slip, the edges
+//     slipping outward), and the stick carries over from step to step; the partial slip
+//     converges with the line search (on by default with friction) and not without it;
 //  R6 a rigid polygon ([[rigid_bodies]] shape = "polygon") that is a box gives the box's
 //     answers, smooth and rough (contact forces at every step, 1e-12 relative);
 //  R7 a rough polygon (a wedge pressed into the plastic block and moved sideways, its
@@ -145,10 +147,10 @@ TEST(RigidBox, FrictionTangentIsTheDerivativeOfTheInternalForce) {
 
 namespace {
 // A 1 x 1 Hencky block on a rigid plane y <= 0 that moves `drag` along x; the nodes above
-// the block (y >= 1) held along x; gravity presses the block on the plane. (nu = 0: with
-// Poisson's expansion under the weight the block's edges slip outward while its middle
-// sticks, and Newton did not settle that partial slip at drag 1e-6; docs/plasticity.md.)
-std::string dragged_block(double drag) {
+// the block (y >= 1) held along x; gravity presses the block on the plane. (With nu > 0,
+// Poisson's expansion under the weight makes the block's edges slip outward while its
+// middle sticks: partial slip, which Newton settles with the line search.)
+std::string dragged_block(double drag, double nu = 0.0, const std::string& line_search = "auto") {
   return R"(
 [grid]
 origin = [-1.0, -1.0]
@@ -159,7 +161,7 @@ type = "gimp"
 [materials.a]
 model = "hencky"
 young = 1.0e4
-poisson = 0.0
+poisson = )" + std::to_string(nu) + R"(
 density = 1.0
 [[bodies]]
 material = "a"
@@ -180,6 +182,8 @@ max = [3.0, 1.5]
 fix = ["x"]
 [load_steps]
 count = 4
+[nonlinear_solver]
+line_search = ")" + line_search + R"("
 [output]
 vtk_every = 0
 )";
@@ -187,8 +191,8 @@ vtk_every = 0
 }  // namespace
 
 TEST(RigidBox, BlockDraggedOnARoughPlaneSlidesAtMuTimesItsPressure) {
-  for (const double drag : {0.05, 1e-6}) {
-    CaseFile cf = CaseFile::parse(dragged_block(drag), "dragged.toml");
+  for (const auto& [drag, nu] : {std::pair{0.05, 0.0}, std::pair{1e-6, 0.0}, std::pair{0.05, 0.3}, std::pair{1e-6, 0.3}}) {
+    CaseFile cf = CaseFile::parse(dragged_block(drag, nu), "dragged.toml");
     MpmCase<2> c = read_mpm_case<2>(cf);
     double worst = 0.0, largest_ratio = 0.0;
     run_quasi_static<2>(c.model, c.newton, [&](const Model<2>&, const StepInfo& info) {
@@ -198,8 +202,8 @@ TEST(RigidBox, BlockDraggedOnARoughPlaneSlidesAtMuTimesItsPressure) {
       worst = std::max(worst, std::abs(F[0] - 0.4 * F[1]) / F[1]);
       largest_ratio = std::max(largest_ratio, F[0] / F[1]);
     });
-    std::cout << "drag " << drag << ": shear / pressure up to " << largest_ratio << " (mu 0.4), |T - mu N| / N <= "
-              << worst << "\n";
+    std::cout << "drag " << drag << ", nu " << nu << ": shear / pressure up to " << largest_ratio
+              << " (mu 0.4), |T - mu N| / N <= " << worst << "\n";
     if (drag > 1e-3) {
       EXPECT_LT(worst, 1e-8);
     } else {  // sticks: the plane's shear is the block's, K drag, carried from step to step
@@ -209,6 +213,17 @@ TEST(RigidBox, BlockDraggedOnARoughPlaneSlidesAtMuTimesItsPressure) {
       EXPECT_GT(shear, 0.0) << "the stick's shear is kept for the next step";
     }
   }
+}
+
+TEST(RigidBox, PartialSlipNeedsTheLineSearch) {
+  // nu = 0.3, drag 1e-6: without the line search Newton's corrections cycle through the
+  // points' stick-slip switches (a period of four iterates) and the run stops.
+  CaseFile cf = CaseFile::parse(dragged_block(1e-6, 0.3, "off"), "dragged.toml", {"nonlinear_solver.max_cuts=3"});
+  MpmCase<2> c = read_mpm_case<2>(cf);
+  EXPECT_FALSE(c.newton.line_search);
+  EXPECT_THROW(run_quasi_static<2>(c.model, c.newton, [](const Model<2>&, const StepInfo&) {}), SolverError);
+  CaseFile on = CaseFile::parse(dragged_block(1e-6, 0.3), "dragged.toml");
+  EXPECT_TRUE(read_mpm_case<2>(on).newton.line_search) << "auto: on with a rough box";
 }
 
 namespace {

@@ -1046,6 +1046,10 @@ MpmCase<dim> read_mpm_case(CaseFile& cf, bool rank_points_only) {
                "no [[rigid_boxes]] or [[rigid_bodies]] with arc-length control (they move with load steps only)");
   read_pore_pressure(cf, names, g, newton, m);
   check_monolithic_coupling(cf, newton, m);
+  const std::string line_search = read_string(cf, "nonlinear_solver", mpm_section("nonlinear_solver").key("line_search"));
+  newton.line_search = line_search == "on";
+  for (const auto& b : m.rigid_boxes)  // (auto: frictional contact's partial slip needs it)
+    newton.line_search = newton.line_search || (line_search == "auto" && (b.friction > 0.0 || b.adhesion > 0.0));
   read_point_sets(cf, g, m);
   GradientSettings gradient = gradient_settings;
   gradient.linear_solver = newton.linear_solver;

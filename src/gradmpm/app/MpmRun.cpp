@@ -150,14 +150,14 @@ void print_step(const StepInfo& info, bool inertial) {
   std::string where = info.time_increment > 0.0 ? fmt::format("t {:.6g}  dt {:.3g}", info.time, info.time_increment)
                                                 : fmt::format("load {:.4f}", info.load_factor);
   if (inertial) where += fmt::format("  kinetic {:.4g}", info.kinetic_energy);
-  fmt::print("  step {:4d}  {}  iterations {:2d}  cuts {}{}  residuals{}{}{}  ({:.2f} s)\n", info.step, where,
+  fmt::print("  step {:4d}  {}  iterations {:2d}  cuts {}{}  residuals{}{}{}{}  ({:.2f} s)\n", info.step, where,
              info.phases.iterations, info.cuts,
              info.staggers ? fmt::format("  staggers {}", info.staggers) : "", res,
              info.indefinite_solves
                  ? fmt::format("  [{} indefinite tangent(s), linear_solver.general]", info.indefinite_solves)
                  : "",
              info.backtracks ? fmt::format("  [{} halved correction(s): a point inverted]", info.backtracks) : "",
-             info.seconds);
+             info.line_searches ? fmt::format("  [{} line-search halving(s)]", info.line_searches) : "", info.seconds);
   if (info.migrated > 0) fmt::print("             {} point(s) moved to another rank\n", info.migrated);
   if (info.at_rest) fmt::print("             at rest: the kinetic energy has fallen to [time] stop_at_rest of its peak\n");
   for (const std::string& why : info.cut_reasons) fmt::print("             cut: {}\n", why);

@@ -193,6 +193,22 @@ Residual residual_at(NonlinearProblem& problem, NewtonState& s, bool first, Newt
   }
 }
 
+/// NewtonSettings::line_search: while the residual at s.du is not below the last
+/// iterate's (by a sufficient decrease, 1e-4 of it), the correction is halved, at most
+/// kHalvings times; the last halving is kept whatever its residual (Newton goes on from
+/// there). A point inverted at a halving takes residual_at's own halvings.
+void search_line(NonlinearProblem& problem, NewtonState& s, Residual& res, NewtonLog& log) {
+  constexpr int kHalvings = 6;
+  constexpr double kSufficient = 1e-4;
+  const double previous = s.residuals.back();
+  for (int halving = 0; halving < kHalvings && res.relative > (1.0 - kSufficient) * previous; ++halving) {
+    s.correction_free *= 0.5;
+    s.du -= s.correction_free;
+    ++log.line_searches;
+    res = residual_at(problem, s, false, log);
+  }
+}
+
 /// Converged: relative to the forces, or (after the first iterate) at the round-off of the
 /// internal force, which a tiny strain cannot beat. `floor` is an estimate: on fine grids
 /// with tiny increments the residual can stall a few times above it (the 1.0e5-dof biaxial
@@ -378,6 +394,7 @@ Vector NewtonSolver::solve(NonlinearProblem& problem, const NewtonSettings& sett
   for (int it = 0;; ++it) {
     const auto t0 = Clock::now();
     Residual res = residual_at(problem, s, it == 0, log);
+    if (settings.line_search && it > 0) search_line(problem, s, res, log);
     log.phases.assembly += seconds_since(t0);
     double err = res.relative;
     // The prescribed increments not applied yet are out of balance too (every rank's).

@@ -34,6 +34,11 @@ struct NewtonSettings {
   double tolerance = 1e-9;  ///< on |r_free| / max(|f_ext|, |f_int|)
   int max_iterations = 25;
   int max_cuts = 6;  ///< halvings of a failing load increment before giving up
+  /// Backtracking on the residual: a correction that does not lower the out-of-balance
+  /// force is halved until it does (at most kLineSearchHalvings times). It is what lets
+  /// frictional contact settle partial slip, where the stick-slip switches of the points
+  /// make full Newton corrections cycle; off, the iterates are Newton's own.
+  bool line_search = false;
   /// A direct solver keeps its symbolic analysis for the next load step when that step's
   /// pattern is the same (the answer is the same to the bit; off only to test that).
   bool reuse_analysis = true;
@@ -98,6 +103,7 @@ struct NewtonLog {
   /// iterations whose symmetric tangent was not positive definite (solved by linear_solver.general)
   int indefinite_solves = 0;
   int backtracks = 0;  ///< halvings of Newton corrections that inverted a point (the converged attempt)
+  int line_searches = 0;  ///< halvings of Newton corrections that raised the residual (NewtonSettings::line_search)
 };
 
 }  // namespace gradmpm
