@@ -5,6 +5,9 @@
 //      steps with gravity as the only (dead) load leave it where it is: the displacements
 //      stay below 1e-3 of the settlement gravity ramped from zero gives, and the stresses
 //      within 1e-2 rho g H of the geostatic ones;
+//   G6 the same block as an axisymmetric cylinder (r-z, x the radius, on its axis): the
+//      per-radian column weights give the same stresses (sigma_rr = sigma_thetatheta =
+//      K0 sigma_v, to 1e-12 rho g H), and it stays at rest as G1's does;
 //   G2 a saturated column (water table at its top) starts with a hydrostatic pore pressure
 //      and the buoyant effective stress, and stays there through a consolidation step: p to
 //      1e-6 rho_w g H, the settlement below 1e-3 of the drained one under its weight;
@@ -96,6 +99,44 @@ TEST(Geostatic, G1_AnElasticBlockStartsAtRestUnderItsWeight) {
   run_quasi_static<2>(ramped, s);
   const double u = largest_displacement(m), u_ramped = largest_displacement(ramped);
   std::cout << "  geostatic start: |u| = " << u << " (gravity ramped: " << u_ramped
+            << "), max |d sigma| / rho g H = " << stress_change / scale << "\n";
+  EXPECT_LE(u, 1e-3 * u_ramped);
+  EXPECT_LE(stress_change, 1e-2 * scale);
+}
+
+TEST(Geostatic, G6_AnAxisymmetricCylinderStartsAtRestUnderItsWeight) {
+  const double k0 = kNu / (1.0 - kNu), H = 1.0, scale = kRho * kG * H;
+  auto cylinder = [] {  // (as the reader makes it: volumes and masses per radian)
+    Model<2> m = block(std::make_shared<LinearElastic>(kE, kNu, kRho));
+    m.axisymmetric = true;
+    for (int p = 0; p < m.points.size(); ++p) {
+      const double r = m.points.position[p][0];
+      m.points.volume[p] *= r;
+      m.points.original_volume[p] *= r;
+      m.points.mass[p] *= r;
+    }
+    return m;
+  };
+  Model<2> m = cylinder();
+  ASSERT_EQ(start_geostatic(m, {k0}).expected, "");
+  double start_error = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) {
+    const double sv = kRho * kG * (H - m.points.position[p][1]);
+    const Mat3& s = m.points.stress[p];
+    start_error = std::max({start_error, std::abs(s(1, 1) + sv), std::abs(s(0, 0) + k0 * sv),
+                            std::abs(s(2, 2) + k0 * sv), std::abs(s(0, 1))});
+  }
+  EXPECT_LE(start_error, 1e-12 * scale);
+  const std::vector<Mat3> start = m.points.stress;
+  NewtonSettings s;
+  s.load_steps = 4;
+  run_quasi_static<2>(m, s);
+  double stress_change = 0.0;
+  for (int p = 0; p < m.points.size(); ++p) stress_change = std::max(stress_change, (m.points.stress[p] - start[p]).norm());
+  Model<2> ramped = cylinder();
+  run_quasi_static<2>(ramped, s);
+  const double u = largest_displacement(m), u_ramped = largest_displacement(ramped);
+  std::cout << "  axisymmetric geostatic start: |u| = " << u << " (gravity ramped: " << u_ramped
             << "), max |d sigma| / rho g H = " << stress_change / scale << "\n";
   EXPECT_LE(u, 1e-3 * u_ramped);
   EXPECT_LE(stress_change, 1e-2 * scale);

@@ -52,7 +52,8 @@ double hydrostatic_pressure(const Model<dim>& m, int p) {
 
 /// The total vertical stress (compression positive) at every point: the weight above it in
 /// its column of grid cells per unit cross-section; points at one elevation carry half of
-/// their row's weight.
+/// their row's weight. Axisymmetric (r-z, gravity along z): the masses are per radian, and
+/// so is the column's cross-section, the integral of r dr over its cells' r > 0.
 template <int dim>
 std::vector<double> overburden(const Model<dim>& m, int v) {
   const auto& pts = m.points;
@@ -78,7 +79,13 @@ std::vector<double> overburden(const Model<dim>& m, int v) {
   }
   std::vector<double> sigma(pts.size(), 0.0);
   const double tol = 1e-9 * h[v];
-  for (auto& members : columns) {
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    auto& members = columns[c];
+    if (m.axisymmetric) {  // (v = 1: the column's cells span r0 .. r0 + h_r)
+      const double r0 = std::max(m.grid.origin()[0] + static_cast<double>(c) * h[0], 0.0);
+      const double r1 = std::max(m.grid.origin()[0] + static_cast<double>(c + 1) * h[0], 0.0);
+      area = 0.5 * (r1 * r1 - r0 * r0);
+    }
     std::sort(members.begin(), members.end(),
               [&](int a, int b) { return up * pts.position[a][v] > up * pts.position[b][v]; });
     double above = 0.0;
@@ -110,6 +117,8 @@ template <int dim>
 GeostaticProblem start_geostatic(Model<dim>& m, const InitialStressSettings& s) {
   const int v = vertical_axis<dim>(m.gravity);
   if (v < 0) return {"loads.gravity", "gravity along one grid axis ([initial_stress] needs it)"};
+  if (m.axisymmetric && v != 1)
+    return {"loads.gravity", "gravity along the axis (y) in an axisymmetric case ([initial_stress] needs it)"};
   const std::vector<double> sigma_v = overburden(m, v);
   auto& pts = m.points;
   if (!m.state_initialised()) m.initialise_state();
