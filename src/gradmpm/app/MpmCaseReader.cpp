@@ -507,7 +507,7 @@ void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, con
   cf.require(m.ties.empty(), "ties", "no [[ties]] " + why);
   cf.require(!m.pore.active(), "pore_pressure", "no pore pressure " + why);
   cf.require(gradient.variant == GradientVariant::None, "gradient.variant", "\"none\" " + why);
-  cf.require(m.regularisation.length_scale == 0.0, "regularisation.type", "\"none\" " + why);
+  cf.require(!m.regularisation.monolithic, "regularisation.coupling", "\"staggered\" " + why);
   cf.require(!newton.arc_length.enabled, "arc_length", "no [arc_length] " + why);
   cf.require(!ranks::distributed(), "mpm.axisymmetric", "false in a run on more than one rank " + why);
   auto& pts = m.points;
