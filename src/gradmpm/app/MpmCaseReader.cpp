@@ -509,7 +509,7 @@ void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, con
   cf.require(gradient.variant == GradientVariant::None, "gradient.variant", "\"none\" " + why);
   cf.require(!m.regularisation.monolithic, "regularisation.coupling", "\"staggered\" " + why);
   cf.require(!newton.arc_length.enabled, "arc_length", "no [arc_length] " + why);
-  cf.require(!ranks::distributed(), "mpm.axisymmetric", "false in a run on more than one rank " + why);
+
   auto& pts = m.points;
   for (int p = 0; p < pts.size(); ++p) {
     const double r = pts.position[p][0];
