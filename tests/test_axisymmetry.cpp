@@ -1,8 +1,8 @@
 // Requirements on the axisymmetric MPM ([mpm] axisymmetric = true: r-z, x the radius;
 // docs/axisymmetry.md):
 //  - the assembled tangent, hoop terms included, is the derivative of the internal force
-//    (central differences, 1e-6 of its largest entry) for Hencky, von Mises past yield and
-//    Mohr-Coulomb past yield, with and without F-bar;
+//    (central differences, 1e-6 of its largest entry) for Hencky, von Mises past yield,
+//    Mohr-Coulomb and Drucker-Prager past yield, with and without F-bar;
 //  - a thick-walled cylinder (a = 1, b = 2, plane strain along z) with its bore pushed out
 //    by u_a: the bore's pressure (reaction per radian / a H) is Lame's within 0.5 %, and
 //    the cells' mean sigma_rr and sigma_thetatheta are Lame's within 0.5 % of it, with the
@@ -114,6 +114,8 @@ TEST(Axisymmetry, TangentIsTheDerivativeOfTheInternalForce) {
        {"model = \"hencky\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0",
         "model = \"von-mises\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\nyield_stress = 1.0",
         "model = \"mohr-coulomb\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\ncohesion = 0.5\nfriction_angle = "
+        "30.0\ndilation_angle = 10.0",
+        "model = \"drucker-prager\"\nyoung = 1.0e3\npoisson = 0.3\ndensity = 1.0\ncohesion = 0.5\nfriction_angle = "
         "30.0\ndilation_angle = 10.0"}) {
     for (const bool fbar : {false, true}) {
       CaseFile cf = CaseFile::parse(cylinder(material, 0.01, 1), "cylinder.toml",
