@@ -282,6 +282,19 @@ SectionSpec rigid_bodies_section() {
   return sec;
 }
 
+/// [nonlinear_solver] (mpm_sections).
+SectionSpec nonlinear_solver_section() {
+  return SectionSpec{"nonlinear_solver", SectionKind::Section, false, "Newton-Raphson",
+         {{.name = "tolerance", .type = K::Number, .default_value = NewtonSettings{}.tolerance, .min = 0.0, .max = 1.0, .min_open = true,
+           .max_open = true, .doc = "on |r_free| / max(|f_ext|, |f_int|)"},
+          {.name = "max_iterations", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_iterations), .min = 1.0, .max = 1000.0,
+           .doc = "Newton iterations per step before a cut"},
+          {.name = "max_cuts", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_cuts), .min = 0.0, .max = 30.0,
+           .doc = "halvings of a failing increment before the run stops"},
+          {.name = "line_search", .type = K::String, .default_value = std::string("auto"), .choices = {"auto", "on", "off"},
+           .doc = "halve a Newton correction that does not lower the residual (up to 6 times); auto: on where a rigid body has friction or adhesion (partial slip), off elsewhere"}}};
+}
+
 /// [[pressure_constraints]] (mpm_sections).
 SectionSpec pressure_constraints_section() {
   const std::string dimvec = "[dim numbers]";
@@ -422,15 +435,7 @@ const std::vector<SectionSpec>& mpm_sections() {
         analysis_section(),
         arc_length_section(),
         time_section(),
-        {"nonlinear_solver", SectionKind::Section, false, "Newton-Raphson",
-         {{.name = "tolerance", .type = K::Number, .default_value = NewtonSettings{}.tolerance, .min = 0.0, .max = 1.0, .min_open = true,
-           .max_open = true, .doc = "on |r_free| / max(|f_ext|, |f_int|)"},
-          {.name = "max_iterations", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_iterations), .min = 1.0, .max = 1000.0,
-           .doc = "Newton iterations per step before a cut"},
-          {.name = "max_cuts", .type = K::Integer, .default_value = static_cast<long long>(NewtonSettings{}.max_cuts), .min = 0.0, .max = 30.0,
-           .doc = "halvings of a failing increment before the run stops"},
-          {.name = "line_search", .type = K::String, .default_value = std::string("auto"), .choices = {"auto", "on", "off"},
-           .doc = "halve a Newton correction that does not lower the residual (up to 6 times); auto: on where a rigid body has friction or adhesion (partial slip), off elsewhere"}}},
+        nonlinear_solver_section(),
         linear_solver_section(),
         {"output", SectionKind::Section, false, "outputs",
          {{.name = "vtk_every", .type = K::Integer, .default_value = static_cast<long long>(MpmOutputSettings{}.vtk_every), .min = 0.0, .max = 1e9,

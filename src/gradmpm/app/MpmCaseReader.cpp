@@ -523,6 +523,36 @@ void make_axisymmetric(const CaseFile& cf, const GradientSettings& gradient, con
   }
 }
 
+/// What every rigid body (block k of section `rigid`) reads and checks once its shape is
+/// in b, and its joining the model: its travel, which must meet the grid; its penalty,
+/// friction and adhesion; and no point's domain overlapping it at the start (no axis, the
+/// grid's or a polygon's face normal, separating them by more than round-off).
+template <int dim>
+void add_rigid_body(const CaseFile& cf, const std::string& k, const SectionSpec& rigid, const GridRead<dim>& g,
+                    RigidBox<dim> b, Model<dim>& m) {
+  const bool box = b.polygon.empty();
+  const double tol = 1e-9 * g.h.minCoeff();
+  if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
+  check_rigid_box(cf, k, b, g.origin, g.hi, m);
+  b.stiffness = read_number(cf, k, rigid.key("penalty")) * stiffest_young(m.materials) / g.h.minCoeff();
+  b.friction = read_number(cf, k, rigid.key("friction"));
+  b.adhesion = read_number(cf, k, rigid.key("adhesion"));
+  const auto faces = RigidContact<dim>::polygon_faces(b, 0.0);  // (none for a box)
+  int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
+  for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
+    const Vec<dim>&x = m.points.position[p], &l = m.points.half_length[p];
+    bool inside = true;
+    for (int d = 0; d < dim; ++d) inside = inside && x[d] + l[d] > b.lo[d] + tol && x[d] - l[d] < b.hi[d] - tol;
+    for (const auto& f : faces) inside = inside && RigidContact<dim>::face_push(f, x, l) > tol;
+    if (inside) overlapped = m.id_of(p);
+  }
+  overlapped = ranks::min(overlapped);  // (every rank's points)
+  cf.require(overlapped == std::numeric_limits<int>::max(), k + (box ? ".min" : ".vertices"),
+             fmt::format("a {} that no material point's domain overlaps at the start (point {} does)",
+                         box ? "box" : "body", overlapped));
+  m.rigid_boxes.push_back(b);
+}
+
 /// A convex polygon's vertices (key: "rigid_bodies[k].vertices"), anticlockwise: at least
 /// 3, every corner turning the same way (collinear or repeated vertices refused).
 template <int dim>
@@ -559,8 +589,6 @@ std::vector<Vec<dim>> read_convex_polygon(const CaseFile& cf, const std::string&
 /// domain at the start.
 template <int dim>
 void read_rigid_bodies(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
-  const double tol = 1e-9 * g.h.minCoeff();
-  const double young_max = stiffest_young(m.materials);
   const SectionSpec& rigid = mpm_section("rigid_bodies");
   for (std::size_t c = 0; c < cf.array_size("rigid_bodies"); ++c) {
     const std::string k = fmt::format("rigid_bodies[{}]", c);
@@ -577,24 +605,7 @@ void read_rigid_bodies(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m
       b.lo = b.lo.cwiseMin(v);
       b.hi = b.hi.cwiseMax(v);
     }
-    if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
-    check_rigid_box(cf, k, b, g.origin, g.hi, m);
-    b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / g.h.minCoeff();
-    b.friction = read_number(cf, k, rigid.key("friction"));
-    b.adhesion = read_number(cf, k, rigid.key("adhesion"));
-    const auto faces = RigidContact<dim>::polygon_faces(b, 0.0);
-    int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
-    for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
-      const Vec<dim>&x = m.points.position[p], &l = m.points.half_length[p];
-      bool inside = true;  // (no axis separates them by more than tol)
-      for (int d = 0; d < dim; ++d) inside = inside && x[d] + l[d] > b.lo[d] + tol && x[d] - l[d] < b.hi[d] - tol;
-      for (const auto& f : faces) inside = inside && RigidContact<dim>::face_push(f, x, l) > tol;
-      if (inside) overlapped = m.id_of(p);
-    }
-    overlapped = ranks::min(overlapped);  // (every rank's points)
-    cf.require(overlapped == std::numeric_limits<int>::max(), k + ".vertices",
-               fmt::format("a body that no material point's domain overlaps at the start (point {} does)", overlapped));
-    m.rigid_boxes.push_back(b);
+    add_rigid_body(cf, k, rigid, g, b, m);
   }
 }
 
@@ -710,8 +721,6 @@ void read_ties(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
 /// [[rigid_boxes]] (mpm/RigidContact.hpp): none may overlap a point's domain at the start.
 template <int dim>
 void read_rigid_boxes(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m) {
-  const double tol = 1e-9 * g.h.minCoeff();
-  const double young_max = stiffest_young(m.materials);
   const SectionSpec& rigid = mpm_section("rigid_boxes");
   for (std::size_t c = 0; c < cf.array_size("rigid_boxes"); ++c) {
     const std::string k = fmt::format("rigid_boxes[{}]", c);
@@ -719,24 +728,7 @@ void read_rigid_boxes(const CaseFile& cf, const GridRead<dim>& g, Model<dim>& m)
     RigidBox<dim> b{cf.has(k + ".name") ? read_string(cf, k, rigid.key("name")) : "", box.lo, box.hi};
     cf.require(b.name.find_first_of(",\n\"") == std::string::npos, k + ".name",
                "a name without commas, quotes or newlines");
-    if (cf.has(k + ".displacement")) b.total = vec<dim>(cf, k + ".displacement");
-    check_rigid_box(cf, k, b, g.origin, g.hi, m);
-    b.stiffness = read_number(cf, k, rigid.key("penalty")) * young_max / g.h.minCoeff();
-    b.friction = read_number(cf, k, rigid.key("friction"));
-    b.adhesion = read_number(cf, k, rigid.key("adhesion"));
-    int overlapped = std::numeric_limits<int>::max();  // the first point (id) whose domain it overlaps
-    for (int p = 0; p < m.points.size() && overlapped == std::numeric_limits<int>::max(); ++p) {
-      bool inside = true;
-      for (int d = 0; d < dim; ++d) {
-        const double x = m.points.position[p][d], l = m.points.half_length[p][d];
-        inside = inside && x + l > b.lo[d] + tol && x - l < b.hi[d] - tol;
-      }
-      if (inside) overlapped = m.id_of(p);
-    }
-    overlapped = ranks::min(overlapped);  // (every rank's points)
-    cf.require(overlapped == std::numeric_limits<int>::max(), k + ".min",
-               fmt::format("a box that no material point's domain overlaps at the start (point {} does)", overlapped));
-    m.rigid_boxes.push_back(b);
+    add_rigid_body(cf, k, rigid, g, b, m);
   }
 }
 
